@@ -1,0 +1,13 @@
+#pragma once
+// One subcommand per file; each adds itself to the CLI and calls into the library.
+#include <CLI/CLI.hpp>
+
+namespace glintscope::cli {
+
+void add_generate_command(CLI::App& app);
+void add_info_command(CLI::App& app);
+void add_convert_command(CLI::App& app);
+void add_preview_command(CLI::App& app);
+void add_lobe_command(CLI::App& app);
+
+}  // namespace glintscope::cli

@@ -1,0 +1,142 @@
+// glintscope info FILE [--json]: what a heightfield file holds, as read with the loading options.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "commands.hpp"
+#include "glintscope/heightfield_io.hpp"
+#include "glintscope/statistics.hpp"
+#include "glintscope/units.hpp"
+#include "options.hpp"
+
+namespace glintscope::cli {
+namespace {
+
+struct InfoSettings {
+    std::string input;
+    bool json = false;
+    LoadOptions load;
+};
+
+std::string json_string(const std::string& text) {
+    std::string quoted = "\"";
+    for (unsigned char ch : text) {
+        if (ch == '"' || ch == '\\') {
+            quoted += '\\';
+            quoted += static_cast<char>(ch);
+        } else if (ch < 0x20) {
+            char escaped[8];
+            std::snprintf(escaped, sizeof escaped, "\\u%04x", ch);
+            quoted += escaped;
+        } else {
+            quoted += static_cast<char>(ch);
+        }
+    }
+    return quoted + "\"";
+}
+
+// Enough digits to read back the same double; JSON has no NaN or infinity.
+std::string json_number(double value) {
+    if (!std::isfinite(value)) return "null";
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.17g", value);
+    return buffer;
+}
+
+void print_json(const std::string& input, const Heightfield& field, const SurfaceStatistics& s) {
+    std::string out = "{\n";
+    auto member = [&out](const std::string& name, const std::string& value, bool last = false) {
+        out += "  " + json_string(name) + ": " + value + (last ? "\n" : ",\n");
+    };
+    member("file", json_string(input));
+    member("cols", std::to_string(field.cols));
+    member("rows", std::to_string(field.rows));
+    member("texel_um", json_number(field.texel_um));
+    member("width_um", json_number(field.width_um()));
+    member("height_um", json_number(field.height_um()));
+    member("height_unit", json_string("um"));
+    member("units_assumed", field.units_assumed ? "true" : "false");
+    std::string statistics = "{";
+    auto statistic = [&statistics](const std::string& name, double value) {
+        statistics += (statistics.size() > 1 ? ", " : "") + json_string(name) + ": " + json_number(value);
+    };
+    statistic("mean_um", s.mean_um);
+    statistic("sq_um", s.sq_um);
+    statistic("sa_um", s.sa_um);
+    statistic("min_um", s.min_um);
+    statistic("max_um", s.max_um);
+    statistic("rms_slope_x", s.rms_slope_x);
+    statistic("rms_slope_y", s.rms_slope_y);
+    statistic("correlation_length_x_um", s.correlation_length_x_um);
+    statistic("correlation_length_y_um", s.correlation_length_y_um);
+    statistic("correlation_threshold", s.correlation_threshold);
+    member("statistics", statistics + "}");
+    member("missing_count", std::to_string(s.missing_count));
+    member("missing_fraction", json_number(s.missing_fraction));
+    std::string provenance = "{";
+    for (const auto& [key, value] : field.provenance)
+        provenance += (provenance.size() > 1 ? ", " : "") + json_string(key) + ": " + json_string(value);
+    member("provenance", provenance + "}", true);
+    out += "}\n";
+    std::fputs(out.c_str(), stdout);
+}
+
+void print_line(const char* name, const std::string& value) { std::printf("%-22s %s\n", name, value.c_str()); }
+
+std::string number(double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.6g", value);
+    return buffer;
+}
+
+void print_text(const std::string& input, const Heightfield& field, const SurfaceStatistics& s) {
+    print_line("file:", input);
+    print_line("size:", std::to_string(field.cols) + " x " + std::to_string(field.rows) + " samples (x by y)");
+    print_line("texel:", format_length(field.texel_um));
+    print_line("extent:", format_length(field.width_um()) + " x " + format_length(field.height_um()));
+    print_line("units:", field.units_assumed ? "ASSUMED: the file does not give them; texel 1 um and heights in um "
+                                               "unless --texel and --height-unit say otherwise"
+                                             : "from the file and options; heights in um");
+    print_line("mean height:", format_length(s.mean_um));
+    print_line("Sq (rms height):", format_length(s.sq_um));
+    print_line("Sa (mean |h - mean|):", format_length(s.sa_um));
+    print_line("min, max:", format_length(s.min_um) + ", " + format_length(s.max_um));
+    print_line("rms slope x, y:", number(s.rms_slope_x) + ", " + number(s.rms_slope_y));
+    print_line("correlation length:", "x " + format_length(s.correlation_length_x_um) + ", y " +
+                                          format_length(s.correlation_length_y_um) + " (autocorrelation falls to " +
+                                          number(s.correlation_threshold) + ")");
+    print_line("missing points:", std::to_string(s.missing_count) + " (" + number(100.0 * s.missing_fraction) + "%)");
+    if (field.provenance.empty()) {
+        print_line("provenance:", "none");
+        return;
+    }
+    std::printf("provenance:\n");
+    for (const auto& [key, value] : field.provenance) std::printf("  %s: %s\n", key.c_str(), value.c_str());
+}
+
+void run_info(const InfoSettings& settings) {
+    const Heightfield field = load_heightfield_argument(settings.input, settings.load);
+    const SurfaceStatistics statistics = compute_statistics(field);
+    if (settings.json)
+        print_json(settings.input, field, statistics);
+    else
+        print_text(settings.input, field, statistics);
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app) {
+    auto settings = std::make_shared<InfoSettings>();
+    CLI::App* command = app.add_subcommand(
+        "info", "Print a heightfield's size, texel, extent, units, surface statistics and provenance");
+    command
+        ->add_option("file", settings->input,
+                     "Heightfield file (.x3p, .exr, .tif, .png, .npy or any image) or builtin:KIND")
+        ->required();
+    command->add_flag("--json", settings->json, "Print one JSON object (lengths in um) instead of text");
+    add_load_options(*command, settings->load);
+    command->callback([settings] { run_info(*settings); });
+}
+
+}  // namespace glintscope::cli

@@ -1,0 +1,42 @@
+// glintscope: how a surface's microgeometry reflects light.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/parallel.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App app{"glintscope: heightfields, wave-optics and geometric-optics reflection lobes.\n"
+                 "Lengths are micrometres unless suffixed (0.5um, 500nm, 2mm); angles are degrees."};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "glintscope 0.1.0");
+    app.add_option_function<int>("--threads", [](int threads) { glintscope::set_thread_count(threads); },
+                                 "Worker threads (default: all cores; results do not depend on it)")
+        ->check(CLI::NonNegativeNumber)
+        ->trigger_on_parse();
+
+    glintscope::cli::add_generate_command(app);
+    glintscope::cli::add_info_command(app);
+    glintscope::cli::add_convert_command(app);
+    glintscope::cli::add_preview_command(app);
+    glintscope::cli::add_lobe_command(app);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const glintscope::Error& e) {
+        std::fprintf(stderr, "glintscope: error: %s\n", e.what());
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "glintscope: error: out of memory (is the requested size too large?)\n");
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glintscope: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

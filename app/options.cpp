@@ -1,0 +1,73 @@
+#include "options.hpp"
+
+#include "glintscope/error.hpp"
+#include "glintscope/generate.hpp"
+#include "glintscope/units.hpp"
+
+namespace glintscope::cli {
+
+CLI::Option* add_length_option(CLI::App& command, const std::string& name, double& target_um,
+                               const std::string& description) {
+    auto* option = command.add_option_function<std::string>(
+        name,
+        [&target_um, name](const std::string& text) {
+            try {
+                target_um = parse_length_um(text);
+            } catch (const Error& e) {
+                throw CLI::ValidationError(name, e.what());
+            }
+        },
+        description);
+    option->type_name("LENGTH");
+    return option;
+}
+
+void add_load_options(CLI::App& command, LoadOptions& options) {
+    command
+        .add_option("--channel", options.channel,
+                    "Image channel holding the heights, by name or index (default: Z, Y, R or the first channel)")
+        ->type_name("NAME|INDEX");
+    command
+        .add_option_function<std::string>(
+            "--height-unit",
+            [&options](const std::string& text) {
+                try {
+                    options.height_unit = parse_length_unit(text);
+                } catch (const Error& e) {
+                    throw CLI::ValidationError("--height-unit", e.what());
+                }
+            },
+            "Unit of the stored heights: um, nm, mm, m, or texel (multiples of the texel size, as in the "
+            "heightfields of Yan et al. 2018). Default: the file's own unit (X3P: m, EXR from glintscope: um), "
+            "else um")
+        ->type_name("UNIT");
+    command
+        .add_option_function<std::string>(
+            "--texel",
+            [&options](const std::string& text) {
+                try {
+                    const double texel_um = parse_length_um(text);
+                    if (!(texel_um > 0.0)) throw Error("the texel size must be positive, got '" + text + "'");
+                    options.texel_um = texel_um;
+                } catch (const Error& e) {
+                    throw CLI::ValidationError("--texel", e.what());
+                }
+            },
+            "Sample spacing, overriding the file's (0.5um, 500nm, 2mm; a bare number is um). Default: the file's "
+            "own spacing (X3P, EXR from glintscope), else 1 um")
+        ->type_name("LENGTH");
+    command
+        .add_option("--height-scale", options.height_scale,
+                    "Multiply the heights by K after the unit conversion (e.g. -1 turns a replica's heights into the "
+                    "surface's)")
+        ->type_name("K")
+        ->capture_default_str();
+}
+
+Heightfield load_heightfield_argument(const std::string& argument, const LoadOptions& options) {
+    const std::string builtin_prefix = "builtin:";
+    if (argument.rfind(builtin_prefix, 0) == 0) return generate_builtin(argument.substr(builtin_prefix.size()));
+    return load_heightfield(argument, options);
+}
+
+}  // namespace glintscope::cli

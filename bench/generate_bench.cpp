@@ -1,0 +1,53 @@
+// The paper-sized surfaces: generating an 8192² heightfield (target ≤ 10 s, ≤ 1.5 GB) and its
+// statistics, alone and after loading it from EXR (target ≤ 3 s for loading + statistics).
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <string>
+
+#include "glintscope/generate.hpp"
+#include "glintscope/heightfield_io.hpp"
+#include "glintscope/statistics.hpp"
+
+namespace {
+
+using glintscope::Heightfield;
+
+// heightfields/isotropic.recipe: the isotropic preset at 8192² and 1 µm.
+glintscope::Recipe isotropic_8192() {
+    glintscope::Recipe recipe = glintscope::default_recipe("isotropic");
+    recipe.grid.rows = recipe.grid.cols = 8192;
+    return recipe;
+}
+
+void BM_GenerateIsotropic8192(benchmark::State& state) {
+    const glintscope::Recipe recipe = isotropic_8192();
+    for (auto _ : state) benchmark::DoNotOptimize(glintscope::generate(recipe).heights_um.data());
+}
+BENCHMARK(BM_GenerateIsotropic8192)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+void BM_GenerateBuiltin(benchmark::State& state, const std::string& kind) {
+    for (auto _ : state) benchmark::DoNotOptimize(glintscope::generate_builtin(kind).heights_um.data());
+}
+BENCHMARK_CAPTURE(BM_GenerateBuiltin, isotropic_1024, std::string("isotropic"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_GenerateBuiltin, scratched_1024, std::string("scratched"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_GenerateBuiltin, cd_1000, std::string("cd"))->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_Statistics8192(benchmark::State& state) {
+    const Heightfield field = glintscope::generate(isotropic_8192());
+    for (auto _ : state) benchmark::DoNotOptimize(glintscope::compute_statistics(field));
+}
+BENCHMARK(BM_Statistics8192)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
+
+void BM_LoadAndStatistics8192(benchmark::State& state) {
+    const std::string path = (std::filesystem::temp_directory_path() / "glintscope-bench-isotropic-8192.exr").string();
+    glintscope::save_heightfield(path, glintscope::generate(isotropic_8192()));
+    for (auto _ : state) {
+        const Heightfield field = glintscope::load_heightfield(path);
+        benchmark::DoNotOptimize(glintscope::compute_statistics(field));
+    }
+    std::filesystem::remove(path);
+}
+BENCHMARK(BM_LoadAndStatistics8192)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
+
+}  // namespace

@@ -1,0 +1,16 @@
+#pragma once
+// Outputs are written to a temporary file beside the target and renamed into place only when
+// complete, so a failure never leaves a partial file under the requested name.
+#include <functional>
+#include <string>
+
+namespace glintscope {
+
+// Calls write(temporary_path); on success renames it to `path`, on any exception removes it
+// and rethrows. Throws Error if the target directory does not exist.
+void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write);
+
+// The lower-case extension of a path without the dot ("exr", "x3p", ...).
+std::string file_extension(const std::string& path);
+
+}  // namespace glintscope

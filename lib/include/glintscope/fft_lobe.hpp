@@ -1,0 +1,29 @@
+#pragma once
+// The FFT ground truth of a wave-optics lobe (Yan et al. 2018 §3.2, eq. 3, 4, 6):
+//   f_r(ω_i, ω_o) = ξ1/A_c · |R̃*(ψ̄/λ)|²,   R*(s) = w(s − x_c) ξ2 e^{−i2π ξ3 H(s)/λ},
+// with H and H' taken from the shared BicubicInterpolant on a fine regular grid over the
+// footprint, and R̃* evaluated exactly at every sub-pixel's ψ̄/λ by separable chirp-z transforms
+// (rows, then columns). GHS, R-GHS and Kirchhoff, whose ξ3 = ψ·n varies over the image, are
+// transformed at several ξ3 and interpolated per pixel with a stated error bound.
+//
+// Method options (LobeQuery::method_options):
+//   step         grid step, a length (both axes). Default, per wavelength and axis: the largest
+//                step whose spectral repeats of R̃* (at v + k/step) stay clear of every ψ̄/λ of
+//                the image, 1/step ≥ (max|ψ̄| + q·max ξ3·max|H'|)/λ + guard, with max|H'| over
+//                the footprint and q the oversampling.
+//   window       Gaussian footprint: sampled half-width in σ_c (default 4). Ignored for a box.
+//   guard        spectral margin in footprint spectral widths — 1/(2πσ_c) for a Gaussian
+//                (default 6: aliased amplitude ≲ e^{−18}), 1/side for a box (default 32).
+//   oversampling q above (default 3): the shared interpolant is only C¹, so R̃* has algebraic
+//                tails beyond ξ3·max|H'|/λ; q = 3 brings their aliases to ~1e-4 of the lobe
+//                where it exceeds 1e-3 of its peak (q = 1: ~1e-2).
+//   phase_error  GHS, R-GHS, Kirchhoff: bound ε on the ξ3 interpolation error, in units of a flat
+//                mirror's peak amplitude ∫|w| ds (default 0.01).
+// The metadata records per wavelength "fft.step_um", "fft.grid", "fft.xi3_slices".
+#include "glintscope/lobe.hpp"
+
+namespace glintscope {
+
+LobeImage fft_lobe(const LobeQuery& query);
+
+}  // namespace glintscope

@@ -1,0 +1,149 @@
+#pragma once
+// Wave-optics lobes from Gabor kernels (Yan, Hašan, Walter, Marschner, Ramamoorthi 2018, §4–5).
+//
+// The reflection function R*(s) = w(s − x_c) ξ2 e^{−i2π ξ3 H(s)/λ} is approximated by one Gabor
+// kernel per cell of a regular grid of spacing l = dx/K (K = kernels per texel along each axis),
+// centred at the cell centre m_k, of width σ_k = l/2, with H(m_k) and H'(m_k) from the shared
+// BicubicInterpolant (eq. 9–15). Each kernel's Fourier transform is a Gaussian times a plane
+// wave, so the BRDF is a short sum (eq. 16–17):
+//   f_r(ω_i, ω_o) ≈ ξ1/A_c |Σ_k w_k C_k F[g_k](ψ̄/λ)|²,   ξ1 including F/λ².
+// Kernels are kept within `footprint_sigmas` σ_c of x_c (a box footprint keeps the kernels
+// inside the box), and each kernel's transform is cut to the box |v + a_k| ≤ kernel_sigmas ·
+// 1/(2πσ_k) in each axis (Yan 2018 §5 "Acceleration by pruning").
+//
+// Two evaluators share these definitions: gabor_lobe (whole images; a lobe-method table entry)
+// and GaborSurface (point queries for renderers, with the pruning hierarchy of §5).
+#include <complex>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "glintscope/diffraction_model.hpp"
+#include "glintscope/geometry.hpp"
+#include "glintscope/interpolant.hpp"
+#include "glintscope/lobe.hpp"
+
+namespace glintscope {
+
+namespace gabor {
+class KernelArrays;
+}
+
+// ---- One Gabor kernel (Yan 2018 §4.1) -----------------------------------------------------
+
+// g(s; μ, σ, a) = G_2D(s; μ, σ) e^{−i2π a·s}, G_2D the normalised isotropic Gaussian (eq. 7).
+struct GaborKernel {
+    Point2 centre_um;         // μ
+    double sigma_um = 0.5;    // σ
+    Point2 frequency;         // a, cycles/µm
+};
+
+// g(s) (eq. 7).
+std::complex<double> gabor_kernel_value(const GaborKernel& kernel, Point2 s_um);
+
+// F[g](v) = ∫ g(s) e^{−i2π s·v} ds = e^{−i2π μ·(v + a)} e^{−2π²σ²|v + a|²}: eq. 8 with the centre
+// μ in the phase (the paper prints a·(v + a), a misprint: conventions.md).
+std::complex<double> gabor_kernel_transform(const GaborKernel& kernel, Point2 v);
+
+// The kernel that stands for the cell of side l centred at m (eq. 13–15): R_k(s) ≈ C_k g(s; m, l/2, a_k)
+// with C_k = l² ξ2 e^{−i2π ξ3 (H(m) − H'(m)·m)/λ} (eq. 14) and a_k = ξ3 H'(m)/λ (eq. 15).
+struct GaborCellKernel {
+    std::complex<double> coefficient;  // C_k
+    GaborKernel kernel;
+};
+GaborCellKernel gabor_cell_kernel(Point2 centre_um, double cell_um, const SurfacePoint& surface_at_centre,
+                                  double xi2, double xi3, double lambda_um);
+
+// ---- Settings shared by images and point queries -----------------------------------------
+
+struct GaborSettings {
+    // K: kernel spacing l = dx/K. The default is the lowest K whose R-OHS lobe of the canonical
+    // isotropic surface stays within 6% relative L2 of the FFT ground truth (docs/gabor.md).
+    int kernels_per_texel = 2;
+    // Kernels farther than this many σ_c from x_c are dropped (Gaussian footprint only). The
+    // paper's 3σ_c costs 0.4% relative L2 at K = 4; 3.5σ_c costs < 0.1% (docs/gabor.md).
+    double footprint_sigmas = 3.5;
+    // Each kernel's transform is zero outside |v + a_k| ≤ kernel_sigmas/(2πσ_k) per axis. The
+    // paper's 3 standard deviations: 4 or 5 change the lobe by < 0.05% relative L2.
+    double kernel_sigmas = 3.0;
+};
+
+// Throws Error naming the setting when it is out of range (K in 1..16, truncations in 1..8).
+void validate(const GaborSettings& settings);
+
+// The settings a lobe query asks for: method option "kernels_per_texel" (an integer), the
+// rest default. Throws Error for unknown options or bad values.
+GaborSettings gabor_settings(const LobeQuery& query);
+
+// ---- Whole lobe images --------------------------------------------------------------------
+
+// The lobe image of the query. OHS and R-OHS (ξ3 = 2) are evaluated as a banded complex matrix
+// product over the footprint's kernels (each kernel's transform is separable in v_x and v_y);
+// GHS, R-GHS and Kirchhoff (ξ3 = ψ·n) pixel by pixel over pruned kernel blocks. The metadata
+// records the kernel grid, count, truncations and evaluation scheme under "gabor.*".
+LobeImage gabor_lobe(const LobeQuery& query);
+
+// ---- Point queries for renderers ----------------------------------------------------------
+
+struct GaborPointQuery {
+    Footprint footprint;                 // x_c and the coherence window
+    Vec3 omega_i{0.0, 0.0, 1.0};         // toward the light
+    Vec3 omega_o{0.0, 0.0, 1.0};         // toward the viewer
+    DiffractionModel model = DiffractionModel::rohs;
+    MaterialChoice material;
+};
+
+struct GaborQueryStatistics {
+    std::size_t nodes_visited = 0;       // hierarchy nodes tested
+    std::size_t kernels_evaluated = 0;   // kernels whose H, H' were interpolated
+    std::size_t kernels_summed = 0;      // kernels that survived pruning, per wavelength
+};
+
+// A heightfield prepared for point queries: a mip-style quadtree over the kernel grid whose
+// nodes hold the range of H' over their kernels (Yan 2018 §5). A query visits the nodes that
+// overlap the footprint and whose directional box ξ3 H'/λ ± kernel_sigmas/(2πσ_k) can reach
+// −ψ̄/λ, interpolates H and H' at the surviving kernels and sums their transforms. Pruning drops
+// only kernels whose truncated transform is zero at the query, so it does not change f_r.
+// The structure is immutable after construction; queries may run concurrently.
+class GaborSurface {
+public:
+    explicit GaborSurface(std::shared_ptr<const BicubicInterpolant> surface, GaborSettings settings = {});
+
+    // f_r in sr⁻¹; 0 when ω_i or ω_o is below the horizon. Throws Error for a non-finite query
+    // or wavelength.
+    double f_r(const GaborPointQuery& query, double lambda_um, GaborQueryStatistics* statistics = nullptr) const;
+
+    // f_r at several wavelengths: the hierarchy is traversed once at the longest wavelength,
+    // whose directional reach in slope space is the widest, and the surviving kernels are
+    // summed for every wavelength (Yan 2018 §5 "Spectral rendering").
+    std::vector<double> f_r(const GaborPointQuery& query, const std::vector<double>& wavelengths_um,
+                            GaborQueryStatistics* statistics = nullptr) const;
+
+    const GaborSettings& settings() const { return settings_; }
+    std::size_t memory_bytes() const;
+
+    struct SlopeBox {  // range of ∂H/∂x and ∂H/∂y over a node's kernels, rounded outward
+        float x_min, x_max, y_min, y_max;
+    };
+
+private:
+    struct Level {
+        int nx = 0;
+        int ny = 0;
+        std::vector<SlopeBox> boxes;  // row-major, y-up like the kernel grid
+    };
+
+    void build_leaves();
+    void build_parents();
+    // Appends the kernels that survive pruning at `prune_lambda_um` (H from H(x_c)).
+    void collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
+                 GaborQueryStatistics* statistics) const;
+
+    std::shared_ptr<const BicubicInterpolant> surface_;
+    GaborSettings settings_;
+    int kernels_x_ = 0;  // kernel grid of one tile of the periodic surface
+    int kernels_y_ = 0;
+    std::vector<Level> levels_;  // levels_[0]: leaves of kLeafKernels² kernels; back(): the root
+};
+
+}  // namespace glintscope

@@ -1,0 +1,46 @@
+#include "glintscope/atomic_output.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <filesystem>
+#include <system_error>
+#include <unistd.h>
+
+#include "glintscope/error.hpp"
+
+namespace glintscope {
+
+std::string file_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    if (!ext.empty() && ext.front() == '.') ext.erase(0, 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    return ext;
+}
+
+void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {
+    namespace fs = std::filesystem;
+    if (path.empty()) throw Error("no output file name given");
+    const fs::path target(path);
+    const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(directory, ec))
+        throw Error("cannot write '" + path + "': directory '" + directory.string() + "' does not exist");
+    if (fs::is_directory(target, ec)) throw Error("cannot write '" + path + "': it is a directory");
+    static std::atomic<unsigned> counter{0};
+    // The temporary keeps the target's extension: OpenImageIO picks the format from it.
+    const fs::path temporary = directory / (".glintscope-" + std::to_string(::getpid()) + "-" +
+                                            std::to_string(counter++) + "-" + target.filename().string());
+    try {
+        write(temporary.string());
+        fs::rename(temporary, target);
+    } catch (const fs::filesystem_error& e) {
+        fs::remove(temporary, ec);
+        throw Error("cannot write '" + path + "': " + e.code().message());
+    } catch (...) {
+        fs::remove(temporary, ec);
+        throw;
+    }
+}
+
+}  // namespace glintscope

@@ -1,0 +1,401 @@
+#include "glintscope/fft_lobe.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+#include "chirp_z.hpp"
+#include "fft_footprint_grid.hpp"
+#include "fft_xi3_slices.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/material.hpp"
+#include "glintscope/parallel.hpp"
+
+namespace glintscope {
+namespace {
+
+// Work-size limits: beyond them the method refuses with a message instead of exhausting memory.
+constexpr int kMaxSamplesPerAxis = 16384;
+constexpr std::size_t kMaxSamples = std::size_t(1) << 23;  // ≤ ~0.6 GB of per-sample arrays
+constexpr int kMaxXi3Slices = 4096;
+
+std::string format_number(double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.6g", value);
+    return buffer;
+}
+
+struct FftSettings {
+    double step_um = 0.0;  // 0: chosen per wavelength and axis
+    double window_sigmas = 4.0;
+    double guard_widths = 6.0;
+    double oversampling = 3.0;
+    double phase_error = 0.01;
+};
+
+FftSettings read_settings(const LobeQuery& query) {
+    check_method_options(query, "fft", {"step", "window", "guard", "oversampling", "phase_error"});
+    FftSettings settings;
+    if (query.method_options.count("step")) {
+        settings.step_um = method_option_length_um(query, "step", 0.0);
+        if (!(settings.step_um > 0.0))
+            throw Error("option step must be a positive length, got '" + query.method_options.at("step") + "'");
+    }
+    settings.window_sigmas = method_option_number(query, "window", settings.window_sigmas);
+    if (!(settings.window_sigmas >= 1.0 && settings.window_sigmas <= 20.0))
+        throw Error("option window must be between 1 and 20 coherence sigmas, got " +
+                    format_number(settings.window_sigmas));
+    const bool box = query.footprint.shape == FootprintShape::box;
+    settings.guard_widths = method_option_number(query, "guard", box ? 32.0 : 6.0);
+    if (!(settings.guard_widths >= 1.0 && settings.guard_widths <= 1000.0))
+        throw Error("option guard must be between 1 and 1000 footprint spectral widths, got " +
+                    format_number(settings.guard_widths));
+    settings.oversampling = method_option_number(query, "oversampling", settings.oversampling);
+    if (!(settings.oversampling >= 1.0 && settings.oversampling <= 100.0))
+        throw Error("option oversampling must be between 1 and 100, got " + format_number(settings.oversampling));
+    settings.phase_error = method_option_number(query, "phase_error", settings.phase_error);
+    if (!(settings.phase_error > 0.0 && settings.phase_error <= 1.0))
+        throw Error("option phase_error must be in (0, 1], got " + format_number(settings.phase_error));
+    return settings;
+}
+
+// The sub-pixel offset of sample a of K along one pixel side, in pixels: a regular K-point grid.
+double subpixel_offset(int a, int supersample) { return (a + 0.5) / supersample - 0.5; }
+
+// One sub-row b of the K×K supersampling: N rows × K·N columns, column m = c·K + a being
+// sub-column a of pixel column c. Positions are regular along rows and columns, so ψ̄/λ is too.
+struct SubpixelGrid {
+    int rows = 0;
+    int cols = 0;
+    std::vector<Vec3> omega_o;
+    std::vector<unsigned char> inside;  // inside the unit disk, i.e. above the horizon
+};
+
+SubpixelGrid subpixel_grid(int resolution, int supersample, int sub_row) {
+    SubpixelGrid grid;
+    grid.rows = resolution;
+    grid.cols = resolution * supersample;
+    grid.omega_o.resize(static_cast<std::size_t>(grid.rows) * grid.cols);
+    grid.inside.resize(grid.omega_o.size());
+    const double dv = subpixel_offset(sub_row, supersample);
+    for (int r = 0; r < grid.rows; ++r)
+        for (int m = 0; m < grid.cols; ++m) {
+            const DiskPoint p = disk_pixel_point(r, m / supersample, resolution,
+                                                 subpixel_offset(m % supersample, supersample), dv);
+            const std::size_t i = static_cast<std::size_t>(r) * grid.cols + m;
+            grid.inside[i] = p.x * p.x + p.y * p.y < 1.0;
+            grid.omega_o[i] = direction_from_disk(p.x, p.y);
+        }
+    return grid;
+}
+
+// Everything one wavelength's transforms share.
+struct WavelengthSetup {
+    const LobeQuery* query = nullptr;
+    double lambda_um = 0.0;
+    FootprintSamples samples;
+    Xi3Slices slices;
+    // e^{−i2π Δξ (H − H̄)/λ} per sample, Δξ the node spacing: stepping R* from one ξ3 node to the
+    // next by one multiplication instead of a sincos (GHS, R-GHS, Kirchhoff only).
+    std::vector<Complex> node_step;
+};
+
+// e^{−i2π ξ (H(s) − H̄)/λ} at every sample, times w(s − x_c) if `weighted`: then it is R*(s) of
+// Yan 2018 eq. 1, 4 (ξ2 is applied later).
+std::vector<Complex> phase_factors(const WavelengthSetup& setup, double xi, bool weighted) {
+    const FootprintSamples& samples = setup.samples;
+    const double phase_per_height = -2.0 * std::numbers::pi * xi / setup.lambda_um;
+    std::vector<Complex> factors(samples.weight.size());
+    parallel_for(factors.size(), 4096, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t s = begin; s < end; ++s)
+            factors[s] = std::polar(weighted ? samples.weight[s] : 1.0, phase_per_height * samples.height[s]);
+    });
+    return factors;
+}
+
+// Which ξ3 nodes each sub-column needs, and every sub-pixel's ξ3.
+struct NodeUse {
+    std::vector<double> xi3_at;
+    std::vector<int> lowest_node;
+    std::vector<int> highest_node;
+};
+
+NodeUse node_use(const WavelengthSetup& setup, const SubpixelGrid& grid) {
+    const LobeQuery& query = *setup.query;
+    NodeUse use{std::vector<double>(grid.omega_o.size()), std::vector<int>(grid.cols, INT_MAX),
+                std::vector<int>(grid.cols, INT_MIN)};
+    for (int r = 0; r < grid.rows; ++r)
+        for (int m = 0; m < grid.cols; ++m) {
+            const std::size_t i = static_cast<std::size_t>(r) * grid.cols + m;
+            if (!grid.inside[i]) continue;
+            use.xi3_at[i] = xi3(query.model, query.omega_i, grid.omega_o[i]);
+            use.lowest_node[m] = std::min(use.lowest_node[m], setup.slices.lowest_node(use.xi3_at[i]));
+            use.highest_node[m] = std::max(use.highest_node[m], setup.slices.highest_node(use.xi3_at[i]));
+        }
+    return use;
+}
+
+// Yan 2018 Fig. 6: the Kirchhoff ξ2 = 1 − ψ̄·H'/(ψ·n) is linear in H', so
+// R̃* = T0 − (ψ̄_x T_x + ψ̄_y T_y)/(ψ·n) with T0 = F[R*], T_x = F[H_x R*], T_y = F[H_y R*].
+int component_count(DiffractionModel model) { return model == DiffractionModel::kirchhoff ? 3 : 1; }
+
+// First pass: every sample row (and component) transformed along x to all K·N sub-columns, stored
+// column-major (result[(c·cols + m)·ny + k]) for the second pass. Rows go in blocks of 8 so that
+// the transposed writes fill whole cache lines.
+void transform_rows(const WavelengthSetup& setup, const std::vector<Complex>& reflection, const ChirpZ& along_x,
+                    int cols, std::vector<Complex>& result) {
+    const FootprintSamples& samples = setup.samples;
+    const int nx = samples.x.count;
+    const int ny = samples.y.count;
+    const int components = component_count(setup.query->model);
+    constexpr std::size_t block = 8;
+    parallel_for(ny, block, [&](std::size_t begin, std::size_t end) {
+        auto workspace = along_x.make_workspace();
+        std::vector<Complex> input(nx), output(block * components * cols);
+        for (std::size_t k = begin; k < end; ++k)
+            for (int c = 0; c < components; ++c) {
+                const Complex* row = &reflection[k * nx];
+                const std::vector<double>* slope = c == 1 ? &samples.slope_x : &samples.slope_y;
+                for (int j = 0; j < nx; ++j) input[j] = c == 0 ? row[j] : row[j] * (*slope)[k * nx + j];
+                along_x.transform(input.data(), &output[((k - begin) * components + c) * cols], workspace.get());
+            }
+        for (int c = 0; c < components; ++c)
+            for (int m = 0; m < cols; ++m)
+                for (std::size_t k = begin; k < end; ++k)
+                    result[(static_cast<std::size_t>(c) * cols + m) * ny + k] =
+                        output[((k - begin) * components + c) * cols + m];
+    });
+}
+
+// Second pass: each listed sub-column transformed along y to all N rows; each sub-pixel adds
+// this node's R̃* with its interpolation weight at its own ξ3.
+void transform_columns(const WavelengthSetup& setup, const SubpixelGrid& grid, const NodeUse& use, int node,
+                       const std::vector<int>& columns, const std::vector<Complex>& rows_result,
+                       const ChirpZ& along_y, std::vector<Complex>& field) {
+    const LobeQuery& query = *setup.query;
+    const int ny = setup.samples.y.count;
+    const int components = component_count(query.model);
+    parallel_for(columns.size(), 8, [&](std::size_t begin, std::size_t end) {
+        auto workspace = along_y.make_workspace();
+        std::vector<Complex> output(static_cast<std::size_t>(components) * grid.rows);
+        for (std::size_t index = begin; index < end; ++index) {
+            const int m = columns[index];
+            for (int c = 0; c < components; ++c)
+                along_y.transform(&rows_result[(static_cast<std::size_t>(c) * grid.cols + m) * ny],
+                                  &output[static_cast<std::size_t>(c) * grid.rows], workspace.get());
+            for (int r = 0; r < grid.rows; ++r) {
+                const std::size_t i = static_cast<std::size_t>(r) * grid.cols + m;
+                if (!grid.inside[i]) continue;
+                const double weight = setup.slices.weight(node, use.xi3_at[i]);
+                if (weight == 0.0) continue;
+                Complex value = output[r];
+                if (components == 3) {
+                    const Vec3 psi = query.omega_i + grid.omega_o[i];
+                    value -= (psi.x * output[grid.rows + r] + psi.y * output[2 * grid.rows + r]) / psi.z;
+                }
+                field[i] += weight * value;
+            }
+        }
+    });
+}
+
+// R̃*(ψ̄/λ) at every sub-pixel of one sub-row, by chirp-z transforms along x (each sample row to
+// all K·N sub-columns) and then along y (each needed sub-column to all N rows), summed over the
+// ξ3 nodes with each sub-pixel's interpolation weights. Each value is correct up to the unit
+// factor e^{−i2π s_0·v} of the grid origin s_0, common to every node and Kirchhoff component at
+// that v and so invisible in |R̃*|². The cell area is not applied.
+std::vector<Complex> transformed_field(const WavelengthSetup& setup, const SubpixelGrid& grid, const ChirpZ& along_x,
+                                       const ChirpZ& along_y) {
+    const Xi3Slices& slices = setup.slices;
+    const NodeUse use = node_use(setup, grid);
+    std::vector<Complex> field(grid.omega_o.size());
+    std::vector<Complex> rows_result(static_cast<std::size_t>(component_count(setup.query->model)) * grid.cols *
+                                     setup.samples.y.count);
+    std::vector<Complex> reflection = phase_factors(setup, slices.node(slices.first), true);
+    for (int node = slices.first; node <= slices.last; ++node) {
+        if (node > slices.first)
+            parallel_for(reflection.size(), 4096, [&](std::size_t begin, std::size_t end) {
+                for (std::size_t s = begin; s < end; ++s)
+                    reflection[s] = multiply(reflection[s], setup.node_step[s]);
+            });
+        std::vector<int> columns;
+        for (int m = 0; m < grid.cols; ++m)
+            if (use.lowest_node[m] <= node && node <= use.highest_node[m]) columns.push_back(m);
+        if (columns.empty()) continue;
+        transform_rows(setup, reflection, along_x, grid.cols, rows_result);
+        transform_columns(setup, grid, use, node, columns, rows_result, along_y, field);
+    }
+    return field;
+}
+
+// Yan 2018 eq. 6: f_r = ξ1/A_c |R̃*(ψ̄/λ)|² with ξ1 = F/λ² times the model's geometric factor
+// (Fig. 6), F evaluated at cos θ_d = ω_i·h = |ψ|/2. Adds the sum over the sub-row's sub-pixels
+// of each pixel to pixel_sums.
+void add_subpixel_values(const WavelengthSetup& setup, const SubpixelGrid& grid, const std::vector<Complex>& field,
+                         double area_um2, std::vector<double>& pixel_sums) {
+    const LobeQuery& query = *setup.query;
+    // F(λ, cos θ) of the material (fresnel_reflectance), with the index looked up once per wavelength.
+    const bool has_material = !query.material.name.empty();
+    const ComplexIndex eta =
+        has_material ? complex_refractive_index(query.material.name, setup.lambda_um) : ComplexIndex{};
+    const double cell_area = setup.samples.x.step_um * setup.samples.y.step_um;
+    const double scale = cell_area * cell_area / (area_um2 * setup.lambda_um * setup.lambda_um);
+    const int supersample = grid.cols / grid.rows;
+    parallel_for(grid.rows, 16, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r)
+            for (int c = 0; c < grid.rows; ++c) {
+                double sum = 0.0;
+                for (int a = 0; a < supersample; ++a) {
+                    const std::size_t i = r * grid.cols + static_cast<std::size_t>(c) * supersample + a;
+                    if (!grid.inside[i]) continue;
+                    const Vec3 omega_o = grid.omega_o[i];
+                    const double fresnel =
+                        has_material ? fresnel_conductor(eta, 0.5 * length(query.omega_i + omega_o)) : 1.0;
+                    sum += xi1_geometric(query.model, query.omega_i, omega_o) * fresnel * std::norm(field[i]);
+                }
+                pixel_sums[r * grid.rows + c] += scale * sum;
+            }
+    });
+}
+
+struct SlopeBound {
+    double x = 0.0;
+    double y = 0.0;
+};
+
+// Finer grids find slightly steeper points between the coarse ones; a slope estimate is padded
+// by this factor so that the final grid rarely has to be redone.
+constexpr double kSlopePadding = 1.02;
+
+// max |∂H/∂x|, max |∂H/∂y| over the footprint from a grid at a quarter texel (at most 1024
+// cells across), padded; sample_for_wavelength checks them on the final grid.
+SlopeBound footprint_slopes(const BicubicInterpolant& surface, const FootprintExtent& extent) {
+    const double step = std::max(0.25 * surface.texel_um(), 2.0 * extent.half_width_um / 1024.0);
+    const FootprintSamples coarse =
+        sample_footprint(surface, extent, sample_axis(extent, extent.centre_um.x, step, kMaxSamplesPerAxis),
+                         sample_axis(extent, extent.centre_um.y, step, kMaxSamplesPerAxis), false);
+    return {kSlopePadding * coarse.max_slope_x, kSlopePadding * coarse.max_slope_y};
+}
+
+FootprintSamples sample_on_axes(const LobeQuery& query, const FootprintExtent& extent, double step_x,
+                                double step_y) {
+    const SampleAxis x = sample_axis(extent, extent.centre_um.x, step_x, kMaxSamplesPerAxis);
+    const SampleAxis y = sample_axis(extent, extent.centre_um.y, step_y, kMaxSamplesPerAxis);
+    if (static_cast<std::size_t>(x.count) * y.count > kMaxSamples)
+        throw Error("fft: the footprint grid would need " + std::to_string(x.count) + "x" + std::to_string(y.count) +
+                    " samples; use a larger step or a smaller footprint");
+    return sample_footprint(*query.surface, extent, x, y, query.model == DiffractionModel::kirchhoff);
+}
+
+// The footprint sampled at the requested step, or at the alias-free step of each axis; if the
+// final grid finds steeper slopes than the estimate, the step is recomputed with them.
+FootprintSamples sample_for_wavelength(const LobeQuery& query, const FootprintExtent& extent,
+                                       const FftSettings& settings, double lambda_um, double xi3_max,
+                                       SlopeBound slopes) {
+    if (settings.step_um > 0.0) return sample_on_axes(query, extent, settings.step_um, settings.step_um);
+    const double guard = settings.guard_widths * extent.spectral_width;
+    const double q = settings.oversampling;
+    const double psi_max_x = std::fabs(query.omega_i.x) + 1.0;
+    const double psi_max_y = std::fabs(query.omega_i.y) + 1.0;
+    for (int attempt = 0;; ++attempt) {
+        FootprintSamples samples =
+            sample_on_axes(query, extent, alias_free_step(psi_max_x, xi3_max, slopes.x, lambda_um, guard, q),
+                           alias_free_step(psi_max_y, xi3_max, slopes.y, lambda_um, guard, q));
+        const bool covered = samples.max_slope_x <= slopes.x && samples.max_slope_y <= slopes.y;
+        if (covered || attempt == 2) return samples;
+        slopes = {std::max(slopes.x, kSlopePadding * samples.max_slope_x),
+                  std::max(slopes.y, kSlopePadding * samples.max_slope_y)};
+    }
+}
+
+// Fills image layer `layer` from the wavelength's samples: for each sub-row of the K×K
+// supersampling, R̃* at its sub-pixels and their f_r, averaged per pixel.
+void fill_layer(const WavelengthSetup& setup, const FootprintExtent& extent, LobeImage& image, std::size_t layer) {
+    const LobeQuery& query = *setup.query;
+    const FootprintSamples& samples = setup.samples;
+    const int resolution = query.resolution;
+    const int supersample = query.supersample;
+    const double lambda = setup.lambda_um;
+    // v = ψ̄/λ on the sub-pixel grid: v_x = (ω_i,x + x_m)/λ with x_m = (m + 1/2)·2/(K·N) − 1, and
+    // v_y = (ω_i,y + y_r)/λ with y_r = 1 − (r + 1/2 + dv)·2/N (conventions.md "Frames and images").
+    const double first_x = disk_pixel_point(0, 0, resolution, subpixel_offset(0, supersample)).x;
+    const ChirpZ along_x(samples.x.count, resolution * supersample, samples.x.step_um,
+                         (query.omega_i.x + first_x) / lambda, 2.0 / (resolution * supersample * lambda));
+    std::vector<double> pixel_sums(static_cast<std::size_t>(resolution) * resolution);
+    for (int sub_row = 0; sub_row < supersample; ++sub_row) {
+        const double first_y = disk_pixel_point(0, 0, resolution, 0.0, subpixel_offset(sub_row, supersample)).y;
+        const ChirpZ along_y(samples.y.count, resolution, samples.y.step_um, (query.omega_i.y + first_y) / lambda,
+                             -2.0 / (resolution * lambda));
+        const SubpixelGrid grid = subpixel_grid(resolution, supersample, sub_row);
+        add_subpixel_values(setup, grid, transformed_field(setup, grid, along_x, along_y), extent.area_um2,
+                            pixel_sums);
+    }
+    const double inverse_count = 1.0 / (double(supersample) * supersample);
+    for (int r = 0; r < resolution; ++r)
+        for (int c = 0; c < resolution; ++c)
+            image.at(layer, r, c) =
+                static_cast<float>(pixel_sums[static_cast<std::size_t>(r) * resolution + c] * inverse_count);
+}
+
+// What the method chose for each wavelength, as metadata lists (one entry per layer, ';'-separated).
+struct GridRecord {
+    std::vector<std::string> steps, grids, slopes, slices;
+
+    void add(const WavelengthSetup& setup) {
+        const FootprintSamples& samples = setup.samples;
+        steps.push_back(format_number(samples.x.step_um) + "," + format_number(samples.y.step_um));
+        grids.push_back(std::to_string(samples.x.count) + "x" + std::to_string(samples.y.count));
+        slopes.push_back(format_number(samples.max_slope_x) + "," + format_number(samples.max_slope_y));
+        slices.push_back(setup.slices.nodes_per_unit ? std::to_string(setup.slices.count()) + " at spacing 1/" +
+                                                           std::to_string(setup.slices.nodes_per_unit)
+                                                     : "1 (xi3 = " + format_number(setup.slices.constant_xi3) + ")");
+    }
+
+    static std::string join(const std::vector<std::string>& parts) {
+        std::string text;
+        for (const std::string& part : parts) text += (text.empty() ? "" : ";") + part;
+        return text;
+    }
+};
+
+}  // namespace
+
+LobeImage fft_lobe(const LobeQuery& query) {
+    validate(query);
+    const FftSettings settings = read_settings(query);
+    const FootprintExtent extent = footprint_extent(query.footprint, settings.window_sigmas);
+    // ξ3 over the image: 2, or ψ·n = cos θ_i + cos θ_o with cos θ_o ∈ (0, 1].
+    const bool varying_xi3 = phase_depends_on_outgoing(query.model);
+    const double xi3_min = varying_xi3 ? query.omega_i.z : 2.0;
+    const double xi3_max = varying_xi3 ? query.omega_i.z + 1.0 : 2.0;
+    const SlopeBound slopes = settings.step_um > 0.0 ? SlopeBound{} : footprint_slopes(*query.surface, extent);
+
+    LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
+    GridRecord record;
+    for (std::size_t layer = 0; layer < query.wavelengths_um.size(); ++layer) {
+        WavelengthSetup setup;
+        setup.query = &query;
+        setup.lambda_um = query.wavelengths_um[layer];
+        setup.samples = sample_for_wavelength(query, extent, settings, setup.lambda_um, xi3_max, slopes);
+        setup.slices = choose_xi3_slices(query.model, setup.samples, setup.lambda_um, xi3_min, xi3_max,
+                                         settings.phase_error, kMaxXi3Slices);
+        if (setup.slices.nodes_per_unit)
+            setup.node_step = phase_factors(setup, 1.0 / setup.slices.nodes_per_unit, false);
+        fill_layer(setup, extent, image, layer);
+        record.add(setup);
+    }
+    image.metadata["fft.step_um"] = GridRecord::join(record.steps);
+    image.metadata["fft.grid"] = GridRecord::join(record.grids);
+    image.metadata["fft.max_slope"] = GridRecord::join(record.slopes);
+    image.metadata["fft.xi3_slices"] = GridRecord::join(record.slices);
+    image.metadata["fft.half_width_um"] = format_number(extent.half_width_um);
+    image.metadata["fft.guard_widths"] = format_number(settings.guard_widths);
+    image.metadata["fft.oversampling"] = format_number(settings.oversampling);
+    if (varying_xi3) image.metadata["fft.phase_error"] = format_number(settings.phase_error);
+    return image;
+}
+
+}  // namespace glintscope

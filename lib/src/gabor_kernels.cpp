@@ -1,0 +1,188 @@
+#include "gabor_kernels.hpp"
+
+#include "glintscope/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <numbers>
+
+// The SIMD helpers here and in gabor_math.hpp are always inlined, so the vector calling
+// convention that -Wpsabi warns about never applies.
+#pragma GCC diagnostic ignored "-Wpsabi"
+#include "gabor_math.hpp"
+
+namespace glintscope::gabor {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+using Double4 = double __attribute__((vector_size(32)));
+
+[[gnu::always_inline]] inline void load4(const double* values, Double4& v) { std::memcpy(&v, values, sizeof v); }
+
+// The kernel's amplitude where v lies in its box |v + a_k| ≤ reach, else 0 (per lane).
+[[gnu::always_inline]] inline double keep_inside(double dx, double dy, double reach2, double amplitude) {
+    return dx * dx <= reach2 && dy * dy <= reach2 ? amplitude : 0.0;
+}
+
+[[gnu::always_inline]] inline Double4 keep_inside(const Double4& dx, const Double4& dy, double reach2,
+                                                 const Double4& amplitude) {
+    const Double4 zero = {0.0, 0.0, 0.0, 0.0};
+    return ((dx * dx <= reach2) & (dy * dy <= reach2)) ? amplitude : zero;
+}
+
+// One kernel's term w_k l² ξ2 e^{−i2π(ξ3 H_k/λ + m_k·v)} e^{−β|v + a_k|²} (T: double or Double4).
+template <typename T>
+[[gnu::always_inline]] inline void add_term(const T& px, const T& py, const T& height, const T& slope_x,
+                                            const T& slope_y, const T& weight, const TransformPoint& point,
+                                            double reach2, double beta, T& sum_re, T& sum_im) {
+    const T dx = point.vx + point.xi3_over_lambda * slope_x;  // v + a_k (eq. 15)
+    const T dy = point.vy + point.xi3_over_lambda * slope_y;
+    const T xi2 = 1.0 - point.xi2_gx * slope_x - point.xi2_gy * slope_y;
+    const T amplitude = weight * xi2 * gabor_math::exp_neg(beta * (dx * dx + dy * dy));
+    T cos_phase;
+    T sin_phase;
+    gabor_math::cos_sin_turns(point.xi3_over_lambda * height + px * point.vx + py * point.vy, cos_phase, sin_phase);
+    const T kept = keep_inside(dx, dy, reach2, amplitude);
+    sum_re += kept * cos_phase;
+    sum_im -= kept * sin_phase;
+}
+
+// Four kernels per step in SIMD lanes, the remainder one by one; each lane sums a fixed subset
+// of the kernels, so the result depends only on the kernel order.
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+void sum_kernel_terms(const KernelArrays& k, std::size_t begin, std::size_t end, const TransformPoint& point,
+                      double reach, double beta, double& out_re, double& out_im) {
+    const double reach2 = reach * reach;
+    Double4 re4 = {0.0, 0.0, 0.0, 0.0};
+    Double4 im4 = {0.0, 0.0, 0.0, 0.0};
+    std::size_t i = begin;
+    for (; i + 4 <= end; i += 4) {
+        Double4 px, py, height, slope_x, slope_y, weight;
+        load4(&k.px[i], px);
+        load4(&k.py[i], py);
+        load4(&k.height[i], height);
+        load4(&k.slope_x[i], slope_x);
+        load4(&k.slope_y[i], slope_y);
+        load4(&k.weight[i], weight);
+        add_term(px, py, height, slope_x, slope_y, weight, point, reach2, beta, re4, im4);
+    }
+    double re = 0.0;
+    double im = 0.0;
+    for (; i < end; ++i)
+        add_term(k.px[i], k.py[i], k.height[i], k.slope_x[i], k.slope_y[i], k.weight[i], point, reach2, beta, re, im);
+    out_re = ((re4[0] + re4[1]) + (re4[2] + re4[3])) + re;
+    out_im = ((im4[0] + im4[1]) + (im4[2] + im4[3])) + im;
+}
+
+}  // namespace
+
+KernelGrid kernel_grid(double texel_um, const GaborSettings& settings) {
+    KernelGrid grid;
+    grid.kernels_per_texel = settings.kernels_per_texel;
+    grid.spacing_um = texel_um / settings.kernels_per_texel;
+    grid.sigma_um = 0.5 * grid.spacing_um;
+    // The transform's Gaussian e^{−2π²σ²|v + a|²} has standard deviation 1/(2πσ) in v.
+    grid.reach = settings.kernel_sigmas / (2.0 * kPi * grid.sigma_um);
+    grid.beta = 2.0 * kPi * kPi * grid.sigma_um * grid.sigma_um;
+    return grid;
+}
+
+void evaluate_kernels(const BicubicInterpolant& surface, const KernelGrid& grid, long long i0, long long j0, int nx,
+                      int ny, SurfacePoint* out) {
+    if (grid.kernels_per_texel == 1)
+        surface.evaluate_samples(i0, j0, nx, ny, out);
+    else
+        surface.evaluate_grid(grid.centre(i0), grid.centre(j0), grid.spacing_um, nx, ny, out);
+}
+
+CoherenceWindow::CoherenceWindow(const Footprint& footprint, double footprint_sigmas) {
+    box_ = footprint.shape == FootprintShape::box;
+    if (box_) {
+        half_extent_um_ = 0.5 * footprint.size_um;
+        area_um2_ = footprint.size_um * footprint.size_um;
+    } else {
+        const double sigma = footprint.sigma_um;
+        inverse_two_variance_ = 1.0 / (2.0 * sigma * sigma);
+        half_extent_um_ = footprint_sigmas * sigma;
+        radius_squared_ = half_extent_um_ * half_extent_um_;
+        area_um2_ = kPi * sigma * sigma;
+    }
+}
+
+void CoherenceWindow::check_kernel_count(const KernelGrid& grid) const {
+    const double per_side = 2.0 * half_extent_um_ / grid.spacing_um + 1.0;
+    if (per_side * per_side > kMaxFootprintKernels) {
+        char message[200];
+        std::snprintf(message, sizeof message,
+                      "gabor: the footprint covers %.3g kernels (limit %.3g); use a smaller footprint or fewer "
+                      "kernels_per_texel",
+                      per_side * per_side, kMaxFootprintKernels);
+        throw Error(message);
+    }
+}
+
+bool CoherenceWindow::row_span(const KernelGrid& grid, double centre_x, double py, long long lo, long long hi,
+                               long long& first, long long& last) const {
+    const double reach2 = box_ ? (std::fabs(py) <= half_extent_um_ ? half_extent_um_ * half_extent_um_ : -1.0)
+                               : radius_squared_ - py * py;
+    if (reach2 < 0.0) return false;
+    // The support's chord at p_y, in kernel indices, then confirmed with contains() at its ends.
+    const double half = std::sqrt(reach2);
+    const double from = std::ceil((centre_x - half) / grid.spacing_um - 0.5);
+    const double to = std::floor((centre_x + half) / grid.spacing_um - 0.5);
+    first = static_cast<long long>(std::clamp(from, double(lo), double(hi) + 1.0));
+    last = static_cast<long long>(std::clamp(to, double(lo) - 1.0, double(hi)));
+    while (first > lo && contains(grid.centre(first - 1) - centre_x, py)) --first;
+    while (first <= last && !contains(grid.centre(first) - centre_x, py)) ++first;
+    while (last < hi && last >= first && contains(grid.centre(last + 1) - centre_x, py)) ++last;
+    while (last >= first && !contains(grid.centre(last) - centre_x, py)) --last;
+    return first <= last;
+}
+
+bool CoherenceWindow::overlaps(double x_min, double x_max, double y_min, double y_max) const {
+    if (box_)
+        return x_max >= -half_extent_um_ && x_min <= half_extent_um_ && y_max >= -half_extent_um_ &&
+               y_min <= half_extent_um_;
+    const double dx = std::max({x_min, -x_max, 0.0});  // distance from the origin to the rectangle
+    const double dy = std::max({y_min, -y_max, 0.0});
+    return dx * dx + dy * dy <= radius_squared_;
+}
+
+FresnelAtWavelength::FresnelAtWavelength(const MaterialChoice& material, double lambda_um)
+    : none_(material.name.empty()) {
+    if (!none_) eta_ = complex_refractive_index(material.name, lambda_um);
+}
+
+// The same F as fresnel_reflectance(material, λ, cos θ), with the table lookup done once.
+double FresnelAtWavelength::operator()(double cos_theta) const {
+    return none_ ? 1.0 : fresnel_conductor(eta_, cos_theta);
+}
+
+TransformPoint transform_point(DiffractionModel model, const FresnelAtWavelength& fresnel, Vec3 omega_i,
+                               Vec3 omega_o, double lambda_um, double area_um2) {
+    const Vec3 psi = omega_i + omega_o;
+    TransformPoint point;
+    point.vx = psi.x / lambda_um;
+    point.vy = psi.y / lambda_um;
+    point.xi3_over_lambda = xi3(model, omega_i, omega_o) / lambda_um;
+    // ξ2 is affine in H' for every model (Yan 2018 Fig. 6): read its slope coefficients off xi2().
+    point.xi2_gx = 1.0 - xi2(model, omega_i, omega_o, 1.0, 0.0);
+    point.xi2_gy = 1.0 - xi2(model, omega_i, omega_o, 0.0, 1.0);
+    // F at the half vector: cos θ = ω_i·h = |ψ|/2.
+    const double xi1 = xi1_geometric(model, omega_i, omega_o) * fresnel(0.5 * length(psi)) / (lambda_um * lambda_um);
+    point.brdf_scale = xi1 / area_um2;
+    return point;
+}
+
+std::complex<double> sum_transforms(const KernelArrays& kernels, std::size_t begin, std::size_t end,
+                                    const TransformPoint& point, const KernelGrid& grid) {
+    double re = 0.0;
+    double im = 0.0;
+    sum_kernel_terms(kernels, begin, end, point, grid.reach, grid.beta, re, im);
+    return {re, im};
+}
+
+}  // namespace glintscope::gabor

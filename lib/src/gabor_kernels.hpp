@@ -1,0 +1,156 @@
+#pragma once
+// What gabor_lobe (images) and GaborSurface (point queries) share: the kernel grid, the
+// coherence window, kernels as flat arrays, the per-direction constants and the kernel sum.
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstddef>
+#include <vector>
+
+#include "glintscope/gabor.hpp"
+#include "glintscope/material.hpp"
+
+namespace glintscope::gabor {
+
+// Kernel centres m = ((i + ½) l, (j + ½) l) for all integers i, j (x right, y up), so with K = 1
+// they are the heightfield samples and the cells tile each texel exactly for any K.
+struct KernelGrid {
+    int kernels_per_texel = 1;  // K
+    double spacing_um = 1.0;  // l = dx/K
+    double sigma_um = 0.5;    // σ_k = l/2 (Yan 2018 §4.2)
+    double reach = 1.0;       // kernel_sigmas/(2πσ_k), cycles/µm: half-width of each transform's box
+    double beta = 0.5;        // 2π²σ_k²: |F[g_k](v)| = e^{−β|v + a_k|²} (eq. 8)
+    double centre(long long index) const { return (static_cast<double>(index) + 0.5) * spacing_um; }
+};
+KernelGrid kernel_grid(double texel_um, const GaborSettings& settings);
+
+// H and H' from the shared interpolant at the kernel centres i0 … i0 + nx − 1, j0 … j0 + ny − 1,
+// into out[(j − j0)·nx + (i − i0)]. With K = 1 the centres are the samples themselves.
+void evaluate_kernels(const BicubicInterpolant& surface, const KernelGrid& grid, long long i0, long long j0, int nx,
+                      int ny, SurfacePoint* out);
+
+// A footprint may hold at most this many kernels (their arrays take 48 bytes each).
+constexpr double kMaxFootprintKernels = 2e7;
+
+// w(s − x_c) and its support (conventions.md "Coherence / footprint"), in coordinates p = s − x_c.
+class CoherenceWindow {
+public:
+    CoherenceWindow(const Footprint& footprint, double footprint_sigmas);
+
+    // The support lies in the square |p_x|, |p_y| ≤ half_extent_um().
+    double half_extent_um() const { return half_extent_um_; }
+    bool contains(double px, double py) const {
+        return box_ ? std::fabs(px) <= half_extent_um_ && std::fabs(py) <= half_extent_um_
+                    : px * px + py * py <= radius_squared_;
+    }
+    double weight(double px, double py) const {  // separable: weight(px, 0) · weight(0, py)
+        return box_ ? 1.0 : std::exp(-(px * px + py * py) * inverse_two_variance_);
+    }
+    // The kernels i in [first, last] of a kernel row at p_y whose centres the support contains,
+    // searched within [lo, hi]; false if there are none.
+    bool row_span(const KernelGrid& grid, double centre_x, double py, long long lo, long long hi, long long& first,
+                  long long& last) const;
+    // Whether the support meets the rectangle [x_min, x_max] × [y_min, y_max] of p.
+    bool overlaps(double x_min, double x_max, double y_min, double y_max) const;
+    double area_um2() const { return area_um2_; }  // A_c = ∫|w|² ds
+    // Throws Error when the support's bounding square holds more than kMaxFootprintKernels kernels.
+    void check_kernel_count(const KernelGrid& grid) const;
+
+private:
+    bool box_ = false;
+    double inverse_two_variance_ = 0.0;  // 1/(2σ_c²)
+    double radius_squared_ = 0.0;  // Gaussian support: |p| ≤ footprint_sigmas σ_c
+    double half_extent_um_ = 0.0;
+    double area_um2_ = 0.0;
+};
+
+// Kernels as parallel arrays: p = m − x_c, H(m) − H_ref, H'(m), and the weight w_k l². The
+// arrays only grow, so a thread can reuse one set for every query.
+class KernelArrays {
+public:
+    std::size_t size() const { return size_; }
+    void clear() { size_ = 0; }
+    // Makes room for `count` more push() calls.
+    void reserve_more(std::size_t count) {
+        if (size_ + count <= px.size()) return;
+        const std::size_t capacity = std::max(2 * px.size(), size_ + count);
+        for (auto* array : {&px, &py, &height, &slope_x, &slope_y, &weight}) array->resize(capacity);
+    }
+    // Sets the size to `count` kernels (new ones unset), to be filled by copy().
+    void resize(std::size_t count) {
+        clear();
+        reserve_more(count);
+        size_ = count;
+    }
+    void copy(std::size_t to, const KernelArrays& source, std::size_t from) {
+        px[to] = source.px[from];
+        py[to] = source.py[from];
+        height[to] = source.height[from];
+        slope_x[to] = source.slope_x[from];
+        slope_y[to] = source.slope_y[from];
+        weight[to] = source.weight[from];
+    }
+    void push(double x, double y, const SurfacePoint& at_centre, double reference_height, double w) {
+        px[size_] = x;
+        py[size_] = y;
+        height[size_] = at_centre.height - reference_height;
+        slope_x[size_] = at_centre.dh_dx;
+        slope_y[size_] = at_centre.dh_dy;
+        weight[size_] = w;
+        ++size_;
+    }
+
+    std::vector<double> px;
+    std::vector<double> py;
+    std::vector<double> height;
+    std::vector<double> slope_x;
+    std::vector<double> slope_y;
+    std::vector<double> weight;
+
+private:
+    std::size_t size_ = 0;
+};
+
+// The constants of one (ω_i, ω_o, λ): v = ψ̄/λ, ξ3/λ, Kirchhoff's ξ2 = 1 − g·H' (g = 0 for the
+// other models, whose ξ2 = 1), and the factor ξ1/A_c that turns |Σ|² into f_r.
+struct TransformPoint {
+    double vx = 0.0;
+    double vy = 0.0;
+    double xi3_over_lambda = 0.0;
+    double xi2_gx = 0.0;
+    double xi2_gy = 0.0;
+    double brdf_scale = 0.0;  // ξ1 (with F/λ²) / A_c
+};
+
+// F(λ, cos θ) of a material at one wavelength, the refractive index looked up once.
+class FresnelAtWavelength {
+public:
+    FresnelAtWavelength(const MaterialChoice& material, double lambda_um);
+    double operator()(double cos_theta) const;
+
+private:
+    bool none_ = true;
+    ComplexIndex eta_;
+};
+
+// Whether some slope H' in [x_min, x_max] × [y_min, y_max] puts v + ξ3 H'/λ inside the box
+// |·| ≤ reach in both axes (ξ3 > 0 for every model): the directional pruning test of Yan 2018 §5.
+inline bool slopes_reach(double vx, double vy, double xi3_over_lambda, double reach, double x_min, double x_max,
+                         double y_min, double y_max) {
+    return vx + xi3_over_lambda * x_min <= reach && vx + xi3_over_lambda * x_max >= -reach &&
+           vy + xi3_over_lambda * y_min <= reach && vy + xi3_over_lambda * y_max >= -reach;
+}
+
+TransformPoint transform_point(DiffractionModel model, const FresnelAtWavelength& fresnel, Vec3 omega_i,
+                               Vec3 omega_o, double lambda_um, double area_um2);
+
+// Σ_k w_k C_k F[g_k](v) over kernels [begin, end), each transform cut to its box |v + a_k| ≤ reach.
+// With C_k (eq. 14), a_k (eq. 15) and F[g_k] (eq. 8), m_k·a_k = ξ3 H'_k·m_k/λ cancels the
+// H'·m term of C_k, leaving
+//   w_k C_k F[g_k](v) = w_k l² ξ2 e^{−i2π(ξ3 H_k/λ + m_k·v)} e^{−β|v + a_k|²}.
+// Measuring m from x_c and H from H_ref multiplies every term by the same unit phasor
+// e^{i2π(x_c·v + ξ3 H_ref/λ)}, which |Σ|² drops, and keeps the phases small.
+std::complex<double> sum_transforms(const KernelArrays& kernels, std::size_t begin, std::size_t end,
+                                    const TransformPoint& point, const KernelGrid& grid);
+
+}  // namespace glintscope::gabor

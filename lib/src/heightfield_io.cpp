@@ -1,0 +1,93 @@
+// Format dispatch, unit resolution and the checks every reader shares.
+#include "glintscope/heightfield_io.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <system_error>
+
+#include "formats.hpp"
+#include "glintscope/atomic_output.hpp"
+#include "glintscope/error.hpp"
+
+namespace glintscope {
+namespace {
+
+// Missing, unreadable and empty files get the same message whatever their format.
+void check_readable_file(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (!fs::exists(status)) throw read_error(path, "no such file");
+    if (fs::is_directory(status)) throw read_error(path, "it is a directory");
+    if (!fs::is_regular_file(status)) throw read_error(path, "not a regular file");
+    const auto size = fs::file_size(path, ec);
+    if (ec) throw read_error(path, ec.message());
+    if (size == 0) throw read_error(path, "the file is empty");
+}
+
+}  // namespace
+
+Error read_error(const std::string& path, const std::string& problem) {
+    return Error("cannot read '" + path + "': " + problem);
+}
+
+Error write_error(const std::string& path, const std::string& problem) {
+    return Error("cannot write '" + path + "': " + problem);
+}
+
+void check_grid_size(long long cols, long long rows, const std::string& path) {
+    const std::string size = std::to_string(cols) + " x " + std::to_string(rows);
+    if (cols <= 0 || rows <= 0) throw read_error(path, "the grid is empty (" + size + " samples)");
+    if (cols > (1LL << 31) || rows > (1LL << 31) ||
+        static_cast<unsigned long long>(cols) * static_cast<unsigned long long>(rows) > kMaxSamples)
+        throw read_error(path, "the grid of " + size + " samples exceeds the limit of 2^31 samples");
+}
+
+HeightConversion resolve_units(const StoredUnits& stored, const LoadOptions& options, const std::string& path) {
+    if (options.texel_um && !(*options.texel_um > 0.0 && std::isfinite(*options.texel_um)))
+        throw read_error(path, "the texel size must be a positive length");
+    if (!std::isfinite(options.height_scale) || options.height_scale == 0.0)
+        throw read_error(path, "the height scale must be finite and non-zero");
+    const std::optional<double> texel = options.texel_um ? options.texel_um : stored.texel_um;
+    const std::optional<LengthUnit> unit = options.height_unit ? options.height_unit : stored.height_unit;
+    if (texel && !(*texel > 0.0 && std::isfinite(*texel)))
+        throw read_error(path, "the file's sample spacing is not a positive length");
+
+    HeightConversion conversion;
+    conversion.texel_um = texel.value_or(1.0);
+    conversion.units_assumed = !texel || !unit;
+    const LengthUnit height_unit = unit.value_or(LengthUnit::um);
+    // Heights "in texels" (as in the heightfields published with Yan 2018) scale with dx.
+    const double um_per_unit = height_unit == LengthUnit::texel ? conversion.texel_um : micrometres_per(height_unit);
+    conversion.um_per_stored_unit = um_per_unit * options.height_scale;
+    return conversion;
+}
+
+Heightfield load_heightfield(const std::string& path, const LoadOptions& options) {
+    check_readable_file(path);
+    const std::string extension = file_extension(path);
+    Heightfield field = extension == "npy"   ? read_npy(path, options)
+                        : extension == "x3p" ? read_x3p(path, options)
+                                             : read_image(path, options);
+    validate(field, "cannot read '" + path + "'", /*allow_missing=*/true);
+    return field;
+}
+
+void save_heightfield(const std::string& path, const Heightfield& field) {
+    const std::string extension = file_extension(path);
+    void (*writer)(const std::string&, const std::string&, const Heightfield&) = nullptr;
+    if (extension == "exr")
+        writer = write_exr;
+    else if (extension == "x3p")
+        writer = write_x3p;
+    else if (extension == "npy")
+        writer = write_npy;
+    else
+        throw write_error(path, (extension.empty() ? std::string("no file extension")
+                                                   : "unsupported heightfield format '." + extension + "'") +
+                                    " (use .exr, .x3p or .npy)");
+    validate(field, "cannot write '" + path + "'", /*allow_missing=*/true);
+    write_atomically(path, [&](const std::string& file) { writer(file, path, field); });
+}
+
+}  // namespace glintscope

@@ -1,0 +1,176 @@
+// Heightfields in images, through OpenImageIO (EXR, TIFF, PNG and anything else it reads).
+//
+// One channel holds the heights: LoadOptions::channel by name or index, else Z, Y, R or the
+// first. Image row 0 (the top) is heightfield row 0 (the largest y), so the picture of a file
+// and every image glintscope draws of it look the same.
+//
+// Integer pixels are taken at their stored values, not normalised to [0, 1]: a 16-bit PNG holds
+// heights 0..65535 in the height unit (µm unless --height-unit says otherwise), so a file
+// quantised in nanometre steps loads with --height-unit nm and nothing else. Normalising would
+// tie the heights to the bit depth, which says nothing about the surface.
+//
+// EXR files written here hold one full-float channel "Z" in µm and header attributes
+// glintscope:texel_um and glintscope:height_unit (shortest round-trip decimal text) and
+// glintscope:provenance:<key> for each provenance entry; reading them back restores all of it.
+// Images without these attributes have no units (units_assumed unless the options give them).
+#include <charconv>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include <OpenImageIO/imageio.h>
+
+#include "formats.hpp"
+
+namespace glintscope {
+namespace {
+
+constexpr std::string_view kTexelAttribute = "glintscope:texel_um";
+constexpr std::string_view kHeightUnitAttribute = "glintscope:height_unit";
+constexpr std::string_view kProvenancePrefix = "glintscope:provenance:";
+
+// OpenImageIO's messages may span lines (one per failed strip); errors are one line, so keep
+// the first.
+std::string one_line(const std::string& text) {
+    const std::size_t start = text.find_first_not_of("\r\n ");
+    if (start == std::string::npos) return "unknown error";
+    const std::size_t end = text.find_first_of("\r\n", start);
+    const std::string first = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    return end == std::string::npos || text.find_first_not_of("\r\n ", end) == std::string::npos ? first
+                                                                                                 : first + " ...";
+}
+
+std::string channel_list(const OIIO::ImageSpec& spec) {
+    std::string list;
+    for (int c = 0; c < spec.nchannels; ++c) {
+        if (c > 0) list += ", ";
+        list += std::to_string(c) + ":" + std::string(spec.channel_name(c));
+    }
+    return list;
+}
+
+int choose_channel(const OIIO::ImageSpec& spec, const std::string& requested, const std::string& path) {
+    if (requested.empty()) {
+        for (const char* name : {"Z", "Y", "R"})
+            if (const int c = spec.channelindex(name); c >= 0) return c;
+        return 0;
+    }
+    if (const int c = spec.channelindex(requested); c >= 0) return c;
+    int index = -1;
+    const auto [end, ec] = std::from_chars(requested.data(), requested.data() + requested.size(), index);
+    if (ec == std::errc() && end == requested.data() + requested.size() && index >= 0 && index < spec.nchannels)
+        return index;
+    throw read_error(path, "no channel '" + requested + "' (available: " + channel_list(spec) + ")");
+}
+
+StoredUnits header_units(const OIIO::ImageSpec& spec, const std::string& path) {
+    StoredUnits units;
+    if (const OIIO::ParamValue* texel = spec.find_attribute(kTexelAttribute, OIIO::TypeDesc::STRING)) {
+        const std::string text = texel->get_string();
+        double value = 0.0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (ec != std::errc() || end != text.data() + text.size())
+            throw read_error(path, "invalid " + std::string(kTexelAttribute) + " '" + text + "' in the header");
+        units.texel_um = value;
+    }
+    if (const OIIO::ParamValue* unit = spec.find_attribute(kHeightUnitAttribute, OIIO::TypeDesc::STRING)) {
+        try {
+            units.height_unit = parse_length_unit(unit->get_string());
+        } catch (const Error& e) {
+            throw read_error(path, std::string(kHeightUnitAttribute) + " in the header: " + e.what());
+        }
+    }
+    return units;
+}
+
+Provenance header_provenance(const OIIO::ImageSpec& spec) {
+    Provenance provenance;
+    for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
+        const std::string& name = attribute.name().string();
+        if (name.starts_with(kProvenancePrefix) && attribute.type() == OIIO::TypeDesc::STRING)
+            provenance[name.substr(kProvenancePrefix.size())] = attribute.get_string();
+    }
+    return provenance;
+}
+
+// Reads the channel in its own integer or float type: asking OpenImageIO for float would
+// normalise integers to [0, 1].
+template <typename Stored>
+void read_channel(OIIO::ImageInput& input, int channel, OIIO::TypeDesc type, const HeightConversion& conversion,
+                  Heightfield& field, const std::string& path) {
+    std::vector<Stored> stored(field.size());
+    // Some readers (TIFF) report unreadable strips only as error text and fill them with zeros.
+    const bool read = input.read_image(0, 0, channel, channel + 1, type, stored.data());
+    const std::string problem = input.geterror();
+    if (!read || !problem.empty())
+        throw read_error(path, "the image data is corrupt or truncated (" + one_line(problem) + ")");
+    for (std::size_t i = 0; i < stored.size(); ++i) field.heights_um[i] = conversion.to_um(stored[i]);
+}
+
+void read_pixels(OIIO::ImageInput& input, int channel, const HeightConversion& conversion, Heightfield& field,
+                 const std::string& path) {
+    using OIIO::TypeDesc;
+    const TypeDesc format = input.spec().channelformat(channel);
+    switch (format.basetype) {
+        case TypeDesc::UINT8:
+            return read_channel<std::uint8_t>(input, channel, TypeDesc::UINT8, conversion, field, path);
+        case TypeDesc::INT8: return read_channel<std::int8_t>(input, channel, TypeDesc::INT8, conversion, field, path);
+        case TypeDesc::UINT16:
+            return read_channel<std::uint16_t>(input, channel, TypeDesc::UINT16, conversion, field, path);
+        case TypeDesc::INT16:
+            return read_channel<std::int16_t>(input, channel, TypeDesc::INT16, conversion, field, path);
+        case TypeDesc::UINT32:
+            return read_channel<std::uint32_t>(input, channel, TypeDesc::UINT32, conversion, field, path);
+        case TypeDesc::INT32:
+            return read_channel<std::int32_t>(input, channel, TypeDesc::INT32, conversion, field, path);
+        case TypeDesc::HALF:
+        case TypeDesc::FLOAT: return read_channel<float>(input, channel, TypeDesc::FLOAT, conversion, field, path);
+        case TypeDesc::DOUBLE: return read_channel<double>(input, channel, TypeDesc::DOUBLE, conversion, field, path);
+        default: throw read_error(path, "unsupported pixel type " + std::string(format.c_str()));
+    }
+}
+
+std::string shortest_text(double value) {
+    char buffer[32];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+    return std::string(buffer, result.ptr);
+}
+
+}  // namespace
+
+Heightfield read_image(const std::string& path, const LoadOptions& options) {
+    // Keep colour channels as stored: associating alpha would scale heights by it.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto input = OIIO::ImageInput::open(path, &config);
+    if (!input) throw read_error(path, "not a readable image (" + one_line(OIIO::geterror()) + ")");
+    const OIIO::ImageSpec& spec = input->spec();
+    if (spec.depth > 1) throw read_error(path, "volume images are not supported");
+    if (spec.nchannels <= 0) throw read_error(path, "the image has no channels");
+    check_grid_size(spec.width, spec.height, path);
+    const int channel = choose_channel(spec, options.channel, path);
+    const HeightConversion conversion = resolve_units(header_units(spec, path), options, path);
+
+    Heightfield field = make_heightfield(spec.height, spec.width, conversion.texel_um);
+    field.units_assumed = conversion.units_assumed;
+    field.provenance = header_provenance(spec);
+    read_pixels(*input, channel, conversion, field, path);
+    return field;
+}
+
+void write_exr(const std::string& file, const std::string& path, const Heightfield& field) {
+    OIIO::ImageSpec spec(field.cols, field.rows, 1, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"Z"};
+    spec.attribute("compression", "zip");
+    spec.attribute(kTexelAttribute, shortest_text(field.texel_um));
+    spec.attribute(kHeightUnitAttribute, to_string(LengthUnit::um));
+    for (const auto& [key, value] : field.provenance) spec.attribute(std::string(kProvenancePrefix) + key, value);
+
+    auto output = OIIO::ImageOutput::create(file);
+    if (!output) throw write_error(path, "OpenImageIO cannot write EXR (" + one_line(OIIO::geterror()) + ")");
+    if (!output->open(file, spec) || !output->write_image(OIIO::TypeDesc::FLOAT, field.heights_um.data()) ||
+        !output->close())
+        throw write_error(path, one_line(output->geterror()));
+}
+
+}  // namespace glintscope

@@ -1,0 +1,190 @@
+#include "glintscope/interpolant.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "glintscope/error.hpp"
+
+namespace glintscope {
+namespace {
+
+// Catmull–Rom cubic convolution weights for the four samples at offsets −1, 0, 1, 2 around a
+// fractional position t ∈ [0, 1), and their derivatives d/dt.
+struct CubicWeights {
+    double w[4];
+    double dw[4];
+};
+
+CubicWeights catmull_rom(double t) {
+    const double t2 = t * t;
+    const double t3 = t2 * t;
+    return {{0.5 * (-t3 + 2.0 * t2 - t), 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0), 0.5 * (-3.0 * t3 + 4.0 * t2 + t),
+             0.5 * (t3 - t2)},
+            {0.5 * (-3.0 * t2 + 4.0 * t - 1.0), 0.5 * (9.0 * t2 - 10.0 * t), 0.5 * (-9.0 * t2 + 8.0 * t + 1.0),
+             0.5 * (3.0 * t2 - 2.0 * t)}};
+}
+
+int wrap(int i, int n) {
+    const int m = i % n;
+    return m < 0 ? m + n : m;
+}
+
+}  // namespace
+
+BicubicInterpolant::BicubicInterpolant(const Heightfield& field) {
+    validate(field, "interpolant", /*allow_missing=*/false);
+    rows_ = field.rows;
+    cols_ = field.cols;
+    texel_um_ = field.texel_um;
+    grid_.resize(field.heights_um.size());
+    for (int j = 0; j < rows_; ++j)
+        for (int c = 0; c < cols_; ++c) grid_[static_cast<std::size_t>(j) * cols_ + c] = field.at(rows_ - 1 - j, c);
+    for (int j = 0; j < rows_; ++j) {
+        for (int c = 0; c < cols_; ++c) {
+            const auto g = [&](int jj, int cc) {
+                return static_cast<double>(grid_[static_cast<std::size_t>(wrap(jj, rows_)) * cols_ + wrap(cc, cols_)]);
+            };
+            const double sx = 0.5 * (g(j, c + 1) - g(j, c - 1)) / texel_um_;
+            const double sy = 0.5 * (g(j + 1, c) - g(j - 1, c)) / texel_um_;
+            max_slope_ = std::fmax(max_slope_, std::fmax(std::fabs(sx), std::fabs(sy)));
+        }
+    }
+}
+
+namespace {
+
+// The four samples along one axis that a coordinate reads, with their Catmull–Rom weights.
+struct AxisTaps {
+    int index[4];
+    CubicWeights weights;
+};
+
+AxisTaps axis_taps(double s_um, double texel_um, int count) {
+    // Continuous sample coordinates: sample c sits at u = c, i.e. x = (u + 0.5)·dx.
+    const double u = s_um / texel_um - 0.5;
+    const double u_floor = std::floor(u);
+    AxisTaps taps{{}, catmull_rom(u - u_floor)};
+    // Most coordinates lie on the first tile, where no division is needed.
+    const int first = u_floor >= 0.0 && u_floor < count ? static_cast<int>(u_floor)
+                                                         : wrap(static_cast<int>(std::fmod(u_floor, count)), count);
+    for (int k = 0; k < 4; ++k) {
+        const int index = first + k - 1;  // in [−1, count + 1]
+        taps.index[k] = count >= 3 ? (index < 0 ? index + count : index >= count ? index - count : index)
+                                   : wrap(index, count);
+    }
+    return taps;
+}
+
+SurfacePoint combine(const std::vector<float>& grid, int cols, double inverse_texel, const AxisTaps& x,
+                     const AxisTaps& y) {
+    double h = 0.0;
+    double dh_du = 0.0;
+    double dh_dv = 0.0;
+    for (int m = 0; m < 4; ++m) {
+        const float* row = &grid[static_cast<std::size_t>(y.index[m]) * cols];
+        double along_x = 0.0;
+        double along_x_du = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            along_x += x.weights.w[k] * row[x.index[k]];
+            along_x_du += x.weights.dw[k] * row[x.index[k]];
+        }
+        h += y.weights.w[m] * along_x;
+        dh_du += y.weights.w[m] * along_x_du;
+        dh_dv += y.weights.dw[m] * along_x;
+    }
+    return {h, dh_du * inverse_texel, dh_dv * inverse_texel};
+}
+
+}  // namespace
+
+SurfacePoint BicubicInterpolant::evaluate(double x_um, double y_um) const {
+    return combine(grid_, cols_, 1.0 / texel_um_, axis_taps(x_um, texel_um_, cols_), axis_taps(y_um, texel_um_, rows_));
+}
+
+void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_um, int nx, int ny,
+                                       SurfacePoint* out) const {
+    // combine() separated: each sample row is filtered along x once per block of columns (its
+    // inner sums, bit-identical to combine's) and reused by every grid row that reads it.
+    constexpr int kBlock = 64;
+    constexpr int kCachedRows = 8;
+    struct FilteredRow {
+        int index = -1;
+        double along_x[kBlock];
+        double along_x_du[kBlock];
+    };
+    const double inverse_texel = 1.0 / texel_um_;
+    AxisTaps x_taps[kBlock];
+    FilteredRow cache[kCachedRows];
+    for (int i0 = 0; i0 < nx; i0 += kBlock) {
+        const int count = std::min(kBlock, nx - i0);
+        for (int i = 0; i < count; ++i) x_taps[i] = axis_taps(x0_um + (i0 + i) * step_um, texel_um_, cols_);
+        for (FilteredRow& row : cache) row.index = -1;
+        int next_slot = 0;
+        for (int j = 0; j < ny; ++j) {
+            const AxisTaps y = axis_taps(y0_um + j * step_um, texel_um_, rows_);
+            const FilteredRow* rows[4];
+            bool in_use[kCachedRows] = {};
+            for (int m = 0; m < 4; ++m) {
+                int slot = 0;
+                while (slot < kCachedRows && cache[slot].index != y.index[m]) ++slot;
+                if (slot == kCachedRows) {
+                    while (in_use[next_slot]) next_slot = (next_slot + 1) % kCachedRows;
+                    slot = next_slot;
+                    next_slot = (next_slot + 1) % kCachedRows;
+                    FilteredRow& filtered = cache[slot];
+                    filtered.index = y.index[m];
+                    const float* row = &grid_[static_cast<std::size_t>(y.index[m]) * cols_];
+                    for (int i = 0; i < count; ++i) {
+                        double along_x = 0.0;
+                        double along_x_du = 0.0;
+                        for (int k = 0; k < 4; ++k) {
+                            along_x += x_taps[i].weights.w[k] * row[x_taps[i].index[k]];
+                            along_x_du += x_taps[i].weights.dw[k] * row[x_taps[i].index[k]];
+                        }
+                        filtered.along_x[i] = along_x;
+                        filtered.along_x_du[i] = along_x_du;
+                    }
+                }
+                in_use[slot] = true;
+                rows[m] = &cache[slot];
+            }
+            SurfacePoint* line = out + static_cast<std::size_t>(j) * nx + i0;
+            for (int i = 0; i < count; ++i) {
+                double h = 0.0;
+                double dh_du = 0.0;
+                double dh_dv = 0.0;
+                for (int m = 0; m < 4; ++m) {
+                    h += y.weights.w[m] * rows[m]->along_x[i];
+                    dh_du += y.weights.w[m] * rows[m]->along_x_du[i];
+                    dh_dv += y.weights.dw[m] * rows[m]->along_x[i];
+                }
+                line[i] = {h, dh_du * inverse_texel, dh_dv * inverse_texel};
+            }
+        }
+    }
+}
+
+void BicubicInterpolant::evaluate_samples(long long c0, long long j0, int nx, int ny, SurfacePoint* out) const {
+    // At t = 0 the Catmull–Rom weights are (0, 1, 0, 0) and their derivatives (−½, 0, ½, 0).
+    const double inverse_texel = 1.0 / texel_um_;
+    const auto wrapped = [](long long i, int n) { return static_cast<int>(((i % n) + n) % n); };
+    for (int j = 0; j < ny; ++j) {
+        const float* below = &grid_[static_cast<std::size_t>(wrapped(j0 + j - 1, rows_)) * cols_];
+        const float* row = &grid_[static_cast<std::size_t>(wrapped(j0 + j, rows_)) * cols_];
+        const float* above = &grid_[static_cast<std::size_t>(wrapped(j0 + j + 1, rows_)) * cols_];
+        int left = wrapped(c0 - 1, cols_);
+        int centre = wrapped(c0, cols_);
+        SurfacePoint* line = out + static_cast<std::size_t>(j) * nx;
+        for (int i = 0; i < nx; ++i) {
+            const int right = centre + 1 == cols_ ? 0 : centre + 1;
+            line[i] = {row[centre], (-0.5 * row[left] + 0.5 * row[right]) * inverse_texel,
+                       (-0.5 * below[centre] + 0.5 * above[centre]) * inverse_texel};
+            left = centre;
+            centre = right;
+        }
+    }
+}
+
+double BicubicInterpolant::height(double x_um, double y_um) const { return evaluate(x_um, y_um).height; }
+
+}  // namespace glintscope

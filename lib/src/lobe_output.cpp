@@ -1,0 +1,382 @@
+#include "glintscope/lobe_output.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <set>
+
+#include <OpenImageIO/imageio.h>
+
+#include "glintscope/atomic_output.hpp"
+#include "glintscope/colormap.hpp"
+#include "glintscope/error.hpp"
+
+namespace glintscope {
+namespace {
+
+constexpr std::string_view attribute_prefix = "glintscope:";
+constexpr std::string_view output_prefix = "output.";  // keys the writer adds; not lobe metadata
+
+std::string one_line(std::string text) {
+    for (char& ch : text)
+        if (ch == '\n' || ch == '\r') ch = ' ';
+    while (!text.empty() && text.back() == ' ') text.pop_back();
+    return text.empty() ? "unknown error" : text;
+}
+
+// Shortest decimal text that reads back as the same double.
+std::string shortest_text(double value) {
+    char buffer[32];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+    return std::string(buffer, result.ptr);
+}
+
+std::string shortest_list(const std::vector<double>& values) {
+    std::string text;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        if (i > 0) text += ',';
+        text += shortest_text(values[i]);
+    }
+    return text;
+}
+
+std::vector<double> parse_list(const std::string& text, const std::string& path) {
+    std::vector<double> values;
+    const char* p = text.data();
+    const char* end = text.data() + text.size();
+    while (p < end) {
+        double value = 0.0;
+        const auto [next, ec] = std::from_chars(p, end, value);
+        if (ec != std::errc() || (next != end && *next != ','))
+            throw Error("cannot read lobe '" + path + "': invalid wavelength list '" + text + "'");
+        values.push_back(value);
+        p = next == end ? end : next + 1;
+    }
+    return values;
+}
+
+void check_lobe(const LobeImage& lobe) {
+    const std::size_t pixels = std::size_t(lobe.resolution) * lobe.resolution;
+    if (lobe.resolution < 1 || lobe.wavelengths_um.empty() || lobe.values.size() != pixels * lobe.wavelengths_um.size())
+        throw Error("lobe image is empty or its values do not match its resolution and wavelengths");
+}
+
+bool is_spectral(const LobeImage& lobe) { return lobe.wavelengths_um.size() > 1; }
+
+void check_colormap_option(const std::string& name) {
+    if (name != "inferno" && name != "viridis" && name != "grey")
+        throw Error("unknown lobe colour map '" + name + "' (available: inferno, viridis, grey)");
+}
+
+// The writer's own facts, in the reserved "output." namespace.
+Provenance output_facts(const LobeImage& lobe, const LobeOutputOptions& options, const std::string& channels) {
+    Provenance facts;
+    facts["output.units"] = "sr^-1";
+    facts["output.wavelengths_um"] = shortest_list(lobe.wavelengths_um);
+    facts["output.channels"] = channels;
+    facts["output.image"] = "projected-disk map, row 0 = largest y, pixels outside the unit disk are 0";
+    if (is_spectral(lobe)) {
+        facts["output.illuminant"] = to_string(options.colour.illuminant);
+        facts["output.colour_config"] = colour_config_name(options.colour);
+    }
+    return facts;
+}
+
+void write_image(const std::string& path, const OIIO::ImageSpec& spec, const void* pixels, OIIO::TypeDesc type) {
+    write_atomically(path, [&](const std::string& temporary) {
+        auto output = OIIO::ImageOutput::create(temporary);
+        if (!output) throw Error("cannot write '" + path + "': " + one_line(OIIO::geterror()));
+        if (!output->open(temporary, spec) || !output->write_image(type, pixels) || !output->close())
+            throw Error("cannot write '" + path + "': " + one_line(output->geterror()));
+    });
+}
+
+void add_attributes(OIIO::ImageSpec& spec, const Provenance& entries) {
+    for (const auto& [key, value] : entries) spec.attribute(std::string(attribute_prefix) + key, value);
+}
+
+std::string json_string(const std::string& text) {
+    std::string quoted = "\"";
+    for (const char ch : text) {
+        switch (ch) {
+            case '"': quoted += "\\\""; break;
+            case '\\': quoted += "\\\\"; break;
+            case '\n': quoted += "\\n"; break;
+            case '\r': quoted += "\\r"; break;
+            case '\t': quoted += "\\t"; break;
+            default:
+                if (static_cast<unsigned char>(ch) < 0x20) {
+                    char escape[8];
+                    std::snprintf(escape, sizeof escape, "\\u%04x", ch);
+                    quoted += escape;
+                } else {
+                    quoted += ch;
+                }
+        }
+    }
+    return quoted + "\"";
+}
+
+std::string json_number(double value) { return std::isfinite(value) ? shortest_text(value) : "null"; }
+
+std::string json_numbers(const std::vector<double>& values) {
+    std::string text = "[";
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        if (i > 0) text += ", ";
+        text += json_number(values[i]);
+    }
+    return text + "]";
+}
+
+// Σ Y (2/N)² of the colour image: the luminous albedo of a spectral lobe.
+double luminance_albedo(const LobeImage& lobe, Illuminant illuminant) {
+    const std::vector<float> xyz = lobe_to_xyz(lobe, illuminant);
+    double total = 0.0;
+    for (std::size_t i = 1; i < xyz.size(); i += 3) total += xyz[i];
+    return total * disk_pixel_area(lobe.resolution);
+}
+
+DisplayExposure write_colormap_png(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options) {
+    const DisplayExposure exposure = display_exposure(lobe, options.colour);
+    const int n = lobe.resolution;
+    ScalarImage image;
+    image.rows = image.cols = n;
+    image.values.resize(std::size_t(n) * n);
+    ColorLegend legend;
+    legend.map = parse_colormap(options.colormap);
+    const std::string at = " at " + shortest_text(lobe.wavelengths_um[0]) + " um";
+    if (exposure.log_scale) {
+        legend.max_value = std::log10(exposure.white_level);
+        legend.min_value = legend.max_value - exposure.log_decades;
+        legend.label = "log10 f_r [sr^-1]" + at;
+    } else {
+        legend.min_value = 0.0;
+        legend.max_value = exposure.white_level;
+        legend.label = "f_r [sr^-1]" + at;
+    }
+    for (int row = 0; row < n; ++row)
+        for (int col = 0; col < n; ++col) {
+            const DiskPoint p = disk_pixel_point(row, col, n);
+            const float value = lobe.at(0, row, col);
+            float shown = std::numeric_limits<float>::quiet_NaN();  // outside the disk: no direction
+            if (p.x * p.x + p.y * p.y <= 1.0 && std::isfinite(value))
+                shown = !exposure.log_scale ? value
+                        : value > 0.0f      ? float(std::max(std::log10(double(value)), legend.min_value))
+                                            : float(legend.min_value);
+            image.values[std::size_t(row) * n + col] = shown;
+        }
+    write_colormapped_png(path, image, legend);
+    return exposure;
+}
+
+}  // namespace
+
+std::vector<WavelengthSummary> summarize_lobe(const LobeImage& lobe) {
+    check_lobe(lobe);
+    const int n = lobe.resolution;
+    std::vector<WavelengthSummary> summaries;
+    for (std::size_t layer = 0; layer < lobe.wavelengths_um.size(); ++layer) {
+        WavelengthSummary summary;
+        summary.wavelength_um = lobe.wavelengths_um[layer];
+        summary.peak_value = -std::numeric_limits<float>::infinity();
+        summary.peak_row = summary.peak_col = n / 2;  // kept only if no finite value lies in the disk
+        double total = 0.0;
+        for (int row = 0; row < n; ++row)
+            for (int col = 0; col < n; ++col) {
+                const DiskPoint p = disk_pixel_point(row, col, n);
+                const float value = lobe.at(layer, row, col);
+                if (p.x * p.x + p.y * p.y > 1.0 || !std::isfinite(value)) continue;
+                total += value;
+                if (value > summary.peak_value) {
+                    summary.peak_value = value;
+                    summary.peak_row = row;
+                    summary.peak_col = col;
+                }
+            }
+        if (!std::isfinite(summary.peak_value)) summary.peak_value = 0.0f;
+        const DiskPoint p = disk_pixel_point(summary.peak_row, summary.peak_col, n);
+        summary.peak_direction = direction_from_disk(p.x, p.y);
+        summary.albedo = total * disk_pixel_area(n);  // conventions.md: Σ f_r (2/N)² is ∫ f_r cos θ_o dω_o
+        summaries.push_back(summary);
+    }
+    return summaries;
+}
+
+std::string spectral_channel_name(double wavelength_um) {
+    // Fichet et al. 2021 §3: "S0." + value + unit, the decimal mark written as a comma.
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.6f", wavelength_um * 1e3);
+    std::string value = buffer;
+    for (char& ch : value)
+        if (ch == '.') ch = ',';
+    return "S0." + value + "nm";
+}
+
+void write_lobe_exr(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options) {
+    check_lobe(lobe);
+    const int n = lobe.resolution;
+    const std::size_t pixels = std::size_t(n) * n;
+    std::vector<std::string> names;
+    std::vector<float> interleaved;
+    Provenance facts;
+    if (!is_spectral(lobe)) {
+        names = {"Y"};
+        interleaved = lobe.values;
+        facts = output_facts(lobe, options, "Y = f_r [sr^-1] at the single wavelength");
+    } else {
+        const std::vector<float> rgb = lobe_to_rgb(lobe, options.colour);
+        names = {"R", "G", "B"};
+        if (options.spectral_channels)
+            for (double lambda : lobe.wavelengths_um) names.push_back(spectral_channel_name(lambda));
+        const std::size_t channels = names.size();
+        interleaved.resize(pixels * channels);
+        for (std::size_t i = 0; i < pixels; ++i) {
+            for (int c = 0; c < 3; ++c) interleaved[i * channels + c] = rgb[i * 3 + c];
+            for (std::size_t layer = 3; layer < channels; ++layer)
+                interleaved[i * channels + layer] = lobe.values[(layer - 3) * pixels + i];
+        }
+        std::string description = "R, G, B linear " + options.colour.output_space;
+        if (options.spectral_channels) description += "; S0.<nm> = f_r [sr^-1] per wavelength (Fichet et al. 2021)";
+        facts = output_facts(lobe, options, description);
+        facts["output.colour_space"] = options.colour.output_space;
+    }
+    if (std::set<std::string>(names.begin(), names.end()).size() != names.size())
+        throw Error("cannot write '" + path + "': two wavelengths share the channel name " +
+                    "(wavelengths closer than 1e-6 nm)");
+    OIIO::ImageSpec spec(n, n, int(names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    spec.attribute("compression", "zip");
+    add_attributes(spec, lobe.metadata);
+    add_attributes(spec, facts);
+    if (options.spectral_channels && is_spectral(lobe)) {
+        spec.attribute("spectralLayoutVersion", "1.0");
+        spec.attribute("emissiveUnits", "W.m^-2.sr^-1");
+    }
+    write_image(path, spec, interleaved.data(), OIIO::TypeDesc::FLOAT);
+}
+
+DisplayExposure write_lobe_png(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options) {
+    check_lobe(lobe);
+    if (file_extension(path) != "png") throw Error("cannot write '" + path + "': a PNG file name must end in .png");
+    check_colormap_option(options.colormap);
+    if (!is_spectral(lobe) && options.colormap != "grey") return write_colormap_png(lobe, path, options);
+    const DisplayImage display = lobe_to_display(lobe, options.colour);
+    OIIO::ImageSpec spec(display.resolution, display.resolution, 3, OIIO::TypeDesc::UINT8);
+    add_attributes(spec, lobe.metadata);
+    Provenance facts = output_facts(lobe, options, "display-referred " + options.colour.display_space);
+    facts["output.exposure_ev"] = shortest_text(display.exposure.ev);
+    facts["output.exposure_rule"] = display.exposure.rule;
+    facts["output.log_scale"] = display.exposure.log_scale ? "log10, " + shortest_text(display.exposure.log_decades) +
+                                                                 " decades below the white level"
+                                                           : "linear";
+    add_attributes(spec, facts);
+    write_image(path, spec, display.pixels.data(), OIIO::TypeDesc::UINT8);
+    return display.exposure;
+}
+
+void write_lobe_json(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options) {
+    check_lobe(lobe);
+    const ColourSettings& colour = options.colour;
+    const DisplayExposure exposure = display_exposure(lobe, colour);
+    std::string json = "{\n";
+    json += "  \"format\": \"glintscope lobe\",\n";
+    json += "  \"resolution\": " + std::to_string(lobe.resolution) + ",\n";
+    json += "  \"units\": \"sr^-1\",\n";
+    json += "  \"wavelengths_um\": " + json_numbers(lobe.wavelengths_um) + ",\n";
+    json += "  \"summary\": [\n";
+    const std::vector<WavelengthSummary> summaries = summarize_lobe(lobe);
+    for (std::size_t i = 0; i < summaries.size(); ++i) {
+        const WavelengthSummary& s = summaries[i];
+        const Vec3 d = s.peak_direction;
+        json += "    {\"wavelength_um\": " + json_number(s.wavelength_um) + ", \"peak_value\": " +
+                json_number(s.peak_value) + ", \"peak_pixel\": [" + std::to_string(s.peak_row) + ", " +
+                std::to_string(s.peak_col) + "], \"peak_direction\": " + json_numbers({d.x, d.y, d.z}) +
+                ", \"peak_theta_deg\": " + json_number(std::acos(std::clamp(d.z, -1.0, 1.0)) * 180.0 / std::numbers::pi) +
+                ", \"peak_phi_deg\": " + json_number(std::atan2(d.y, d.x) * 180.0 / std::numbers::pi) +
+                ", \"albedo\": " + json_number(s.albedo) + "}" + (i + 1 < summaries.size() ? "," : "") + "\n";
+    }
+    json += "  ],\n";
+    json += "  \"colour\": {\n";
+    json += "    \"config\": " + json_string(colour_config_name(colour)) + ",\n";
+    json += "    \"illuminant\": " + json_string(to_string(colour.illuminant)) + ",\n";
+    json += "    \"exr_colour_space\": " + json_string(is_spectral(lobe) ? colour.output_space : "none (Y channel)") + ",\n";
+    json += "    \"png_colour_space\": " + json_string(is_spectral(lobe) || options.colormap == "grey"
+                                                         ? colour.display_space
+                                                         : "colour map " + options.colormap) + ",\n";
+    if (is_spectral(lobe)) json += "    \"luminance_albedo\": " + json_number(luminance_albedo(lobe, colour.illuminant)) + ",\n";
+    json += "    \"png_exposure_ev\": " + json_number(exposure.ev) + ",\n";
+    json += "    \"png_white_level\": " + json_number(exposure.white_level) + ",\n";
+    json += "    \"png_exposure_rule\": " + json_string(exposure.rule) + ",\n";
+    json += "    \"png_log_scale\": " + std::string(exposure.log_scale ? "true" : "false") + ",\n";
+    json += "    \"png_log_decades\": " + json_number(exposure.log_decades) + "\n";
+    json += "  },\n";
+    json += "  \"metadata\": {";
+    bool first = true;
+    for (const auto& [key, value] : lobe.metadata) {
+        json += first ? "\n    " : ",\n    ";
+        json += json_string(key) + ": " + json_string(value);
+        first = false;
+    }
+    json += first ? "}\n" : "\n  }\n";
+    json += "}\n";
+    write_atomically(path, [&](const std::string& temporary) {
+        std::ofstream stream(temporary, std::ios::binary);
+        stream << json;
+        stream.close();
+        if (!stream) throw Error("cannot write '" + path + "'");
+    });
+}
+
+void write_lobe(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options) {
+    const std::string extension = file_extension(path);
+    if (extension == "exr") return write_lobe_exr(lobe, path, options);
+    if (extension == "png") {
+        write_lobe_png(lobe, path, options);
+        return;
+    }
+    if (extension == "json") return write_lobe_json(lobe, path, options);
+    throw Error("cannot write lobe '" + path + "': unsupported format (use .exr, .png or .json)");
+}
+
+LobeImage load_lobe_exr(const std::string& path) {
+    auto input = OIIO::ImageInput::open(path);
+    if (!input) throw Error("cannot read lobe '" + path + "': " + one_line(OIIO::geterror()));
+    const OIIO::ImageSpec& spec = input->spec();
+    if (spec.width != spec.height || spec.width < 1 || spec.depth > 1)
+        throw Error("cannot read lobe '" + path + "': the image is not square");
+    const std::string wavelengths_key = std::string(attribute_prefix) + "output.wavelengths_um";
+    const OIIO::ParamValue* wavelengths = spec.find_attribute(wavelengths_key, OIIO::TypeDesc::STRING);
+    if (!wavelengths) throw Error("cannot read lobe '" + path + "': no " + wavelengths_key + " attribute");
+
+    LobeImage lobe = make_lobe_image(spec.width, parse_list(wavelengths->get_string(), path));
+    std::vector<int> channels;
+    if (lobe.wavelengths_um.size() == 1) {
+        channels.push_back(spec.channelindex("Y"));
+    } else {
+        for (double lambda : lobe.wavelengths_um) channels.push_back(spec.channelindex(spectral_channel_name(lambda)));
+    }
+    for (int channel : channels)
+        if (channel < 0)
+            throw Error("cannot read lobe '" + path + "': it has no per-wavelength channels (" +
+                        (lobe.wavelengths_um.size() == 1 ? "Y" : "S0.<nm>") +
+                        "); write spectral lobes with spectral channels to read them back");
+    const std::size_t pixels = std::size_t(spec.width) * spec.height;
+    std::vector<float> all(pixels * spec.nchannels);
+    if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
+        throw Error("cannot read lobe '" + path + "': " + one_line(input->geterror()));
+    for (std::size_t layer = 0; layer < channels.size(); ++layer)
+        for (std::size_t i = 0; i < pixels; ++i) lobe.values[layer * pixels + i] = all[i * spec.nchannels + channels[layer]];
+    for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
+        const std::string& name = attribute.name().string();
+        if (!name.starts_with(attribute_prefix) || attribute.type() != OIIO::TypeDesc::STRING) continue;
+        const std::string key = name.substr(attribute_prefix.size());
+        if (!key.starts_with(output_prefix)) lobe.metadata[key] = attribute.get_string();
+    }
+    return lobe;
+}
+
+}  // namespace glintscope

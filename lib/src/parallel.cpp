@@ -1,0 +1,68 @@
+#include "glintscope/parallel.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace glintscope {
+namespace {
+
+std::atomic<int> requested_threads{0};
+
+int default_thread_count() {
+    if (const char* env = std::getenv("GLINTSCOPE_THREADS")) {
+        const int n = std::atoi(env);
+        if (n > 0) return n;
+    }
+    return std::max(1u, std::thread::hardware_concurrency());
+}
+
+}  // namespace
+
+int thread_count() {
+    const int n = requested_threads.load();
+    return n > 0 ? n : default_thread_count();
+}
+
+void set_thread_count(int threads) { requested_threads.store(std::max(0, threads)); }
+
+void parallel_for(std::size_t count, std::size_t chunk,
+                  const std::function<void(std::size_t, std::size_t)>& body) {
+    if (count == 0) return;
+    chunk = std::max<std::size_t>(1, chunk);
+    const std::size_t chunks = (count + chunk - 1) / chunk;
+    const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(thread_count()), chunks);
+    if (workers <= 1) {
+        for (std::size_t begin = 0; begin < count; begin += chunk) body(begin, std::min(count, begin + chunk));
+        return;
+    }
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    const auto work = [&] {
+        for (;;) {
+            const std::size_t index = next.fetch_add(1);
+            if (index >= chunks) return;
+            const std::size_t begin = index * chunk;
+            try {
+                body(begin, std::min(count, begin + chunk));
+            } catch (...) {
+                std::lock_guard lock(failure_mutex);
+                if (!failure) failure = std::current_exception();
+                next.store(chunks);
+            }
+        }
+    };
+    std::vector<std::thread> threads;
+    threads.reserve(workers - 1);
+    for (std::size_t t = 1; t < workers; ++t) threads.emplace_back(work);
+    work();
+    for (auto& thread : threads) thread.join();
+    if (failure) std::rethrow_exception(failure);
+}
+
+}  // namespace glintscope

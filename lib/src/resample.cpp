@@ -1,0 +1,198 @@
+// Resampling a heightfield to a new texel size.
+//
+// Upsampling evaluates the shared BicubicInterpolant (conventions.md "Heightfield
+// interpolation") at the new sample centres, so the surface itself is unchanged. Downsampling
+// by a factor a = new texel / old texel first replaces each sample by the mean of the
+// piecewise-constant surface over a box a texels wide centred on it — the height a coarser
+// instrument pixel would report — and then evaluates the interpolant of those means. The box's
+// transfer function sinc(a·dx·f) removes most of what lies beyond the new Nyquist frequency
+// (a checkerboard of the old grid vanishes exactly at a = 2) instead of letting it alias.
+//
+// The new grid keeps the old extent's centre and has round(extent / texel) samples per axis.
+// Borders: Tiling::periodic wraps the box and the interpolant around. Tiling::none continues the
+// field beyond each border by point reflection about the border sample, h(−k) = 2 h(0) − h(k):
+// a local trend runs on without a kink, where an even mirror would flatten the slope at the
+// edge and wrapping would pull in the opposite edge.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "glintscope/error.hpp"
+#include "glintscope/interpolant.hpp"
+#include "glintscope/parallel.hpp"
+#include "glintscope/prepare.hpp"
+#include "glintscope/units.hpp"
+
+namespace glintscope {
+namespace {
+
+constexpr std::size_t kRowsPerChunk = 16;
+// Catmull–Rom reads the samples from one before to two after a position: the added margin.
+constexpr int kMargin = 2;
+
+// Sample i of a line of n samples (at `line`, `stride` apart) continued beyond [0, n).
+double extended(const float* line, std::size_t stride, long long i, int n, Tiling tiling) {
+    if (tiling == Tiling::periodic) return line[static_cast<std::size_t>(((i % n) + n) % n) * stride];
+    if (n == 1) return line[0];
+    const auto at = [&](long long k) { return static_cast<double>(line[static_cast<std::size_t>(k) * stride]); };
+    // Each reflection about an end sample maps i closer to the line; point reflection negates
+    // the deviation from that sample, so the signs alternate.
+    double offset = 0.0;
+    double sign = 1.0;
+    while (i < 0 || i >= n) {
+        const long long end = i < 0 ? 0 : n - 1;
+        offset += sign * 2.0 * at(end);
+        sign = -sign;
+        i = 2 * end - i;
+    }
+    return offset + sign * at(i);
+}
+
+// Weights of a box `width` samples wide centred on sample 0 over the unit cells of samples
+// −reach..reach (the overlap of each cell with the box, over the width): they sum to one.
+std::vector<double> box_weights(double width) {
+    const int reach = static_cast<int>(std::ceil(0.5 * width + 0.5));
+    std::vector<double> weights;
+    for (int k = -reach; k <= reach; ++k) {
+        const double overlap = std::min(k + 0.5, 0.5 * width) - std::max(k - 0.5, -0.5 * width);
+        weights.push_back(std::max(0.0, overlap) / width);
+    }
+    return weights;
+}
+
+// The box mean of `field` over width × width samples, separably.
+Heightfield box_filter(const Heightfield& field, double width, Tiling tiling) {
+    const std::vector<double> weights = box_weights(width);
+    const int reach = static_cast<int>(weights.size() / 2);
+    const auto cols = static_cast<std::size_t>(field.cols);
+    Heightfield along_x = field;
+    parallel_for(static_cast<std::size_t>(field.rows), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r) {
+            const float* row = &field.heights_um[r * cols];
+            for (int c = 0; c < field.cols; ++c) {
+                const bool inside = c >= reach && c + reach < field.cols;
+                double sum = 0.0;
+                for (int k = -reach; k <= reach; ++k)
+                    sum += weights[static_cast<std::size_t>(k + reach)] *
+                           (inside ? row[c + k] : extended(row, 1, c + k, field.cols, tiling));
+                along_x.heights_um[r * cols + static_cast<std::size_t>(c)] = static_cast<float>(sum);
+            }
+        }
+    });
+    Heightfield filtered = along_x;
+    const auto rows = static_cast<std::size_t>(field.rows);
+    parallel_for(rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+        std::vector<double> sums(cols);
+        for (std::size_t r = begin; r < end; ++r) {
+            std::fill(sums.begin(), sums.end(), 0.0);
+            const bool inside = r >= static_cast<std::size_t>(reach) && r + reach < rows;
+            for (int k = -reach; k <= reach; ++k) {
+                const double w = weights[static_cast<std::size_t>(k + reach)];
+                if (inside) {
+                    const float* row = &along_x.heights_um[(r + k) * cols];
+                    for (std::size_t c = 0; c < cols; ++c) sums[c] += w * row[c];
+                } else {
+                    for (std::size_t c = 0; c < cols; ++c)
+                        sums[c] += w * extended(&along_x.heights_um[c], cols, static_cast<long long>(r) + k,
+                                                field.rows, tiling);
+                }
+            }
+            for (std::size_t c = 0; c < cols; ++c) filtered.heights_um[r * cols + c] = static_cast<float>(sums[c]);
+        }
+    });
+    return filtered;
+}
+
+// The field with kMargin samples added on every side by point reflection, so that the
+// (periodic) interpolant never reaches across to the opposite border inside the original extent.
+Heightfield reflected(const Heightfield& field) {
+    Heightfield wide = make_heightfield(field.rows, field.cols + 2 * kMargin, field.texel_um);
+    for (int r = 0; r < field.rows; ++r)
+        for (int c = 0; c < wide.cols; ++c)
+            wide.at(r, c) = static_cast<float>(extended(&field.heights_um[static_cast<std::size_t>(r) * field.cols], 1,
+                                                        c - kMargin, field.cols, Tiling::none));
+    Heightfield padded = make_heightfield(field.rows + 2 * kMargin, wide.cols, field.texel_um);
+    for (int r = 0; r < padded.rows; ++r)
+        for (int c = 0; c < padded.cols; ++c)
+            padded.at(r, c) = static_cast<float>(extended(&wide.heights_um[static_cast<std::size_t>(c)],
+                                                          static_cast<std::size_t>(wide.cols), r - kMargin, field.rows,
+                                                          Tiling::none));
+    return padded;
+}
+
+// round(extent / texel) samples, at least one.
+double sample_count(double extent_um, double texel_um) { return std::max(1.0, std::round(extent_um / texel_um)); }
+
+}  // namespace
+
+ResampleReport resample(Heightfield& field, double texel_um, Tiling tiling) {
+    validate(field, "resample", /*allow_missing=*/false);
+    if (!(texel_um > 0.0) || !std::isfinite(texel_um))
+        throw Error("resample: the texel size must be a positive length, got " + format_length(texel_um));
+    ResampleReport report;
+    report.original_texel_um = field.texel_um;
+    report.texel_um = texel_um;
+    report.original_rows = field.rows;
+    report.original_cols = field.cols;
+    const double cols = sample_count(field.width_um(), texel_um);
+    const double rows = sample_count(field.height_um(), texel_um);
+    if (cols * rows > 2147483648.0)
+        throw Error("resample: a texel of " + format_length(texel_um) + " would make the field " +
+                    std::to_string(static_cast<long long>(cols)) + "x" + std::to_string(static_cast<long long>(rows)) +
+                    " samples, beyond the limit of 2^31");
+    report.cols = static_cast<int>(cols);
+    report.rows = static_cast<int>(rows);
+    report.tiling = tiling;
+    const double ratio = texel_um / field.texel_um;
+    report.prefiltered = ratio > 1.0;
+
+    Heightfield result = make_heightfield(report.rows, report.cols, texel_um);
+    {
+        const Heightfield source = report.prefiltered ? box_filter(field, ratio, tiling) : field;
+        const BicubicInterpolant surface(tiling == Tiling::none ? reflected(source) : source);
+        const double margin_um = tiling == Tiling::none ? kMargin * field.texel_um : 0.0;
+        // The new grid is centred on the old extent: its first sample centre (lowest y) is at
+        // (x0, y0) in the source's frame.
+        const double x0 = 0.5 * (field.width_um() - report.cols * texel_um) + margin_um + 0.5 * texel_um;
+        const double y0 = 0.5 * (field.height_um() - report.rows * texel_um) + margin_um + 0.5 * texel_um;
+        // Chunks of y-up grid lines j (image row rows − 1 − j).
+        parallel_for(static_cast<std::size_t>(result.rows), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+            const int lines = static_cast<int>(end - begin);
+            std::vector<SurfacePoint> points(static_cast<std::size_t>(lines) * result.cols);
+            surface.evaluate_grid(x0, y0 + static_cast<double>(begin) * texel_um, texel_um, result.cols, lines,
+                                  points.data());
+            for (int line = 0; line < lines; ++line) {
+                const int r = result.rows - 1 - static_cast<int>(begin) - line;
+                const SurfacePoint* line_points = &points[static_cast<std::size_t>(line) * result.cols];
+                for (int c = 0; c < result.cols; ++c) result.at(r, c) = static_cast<float>(line_points[c].height);
+            }
+        });
+    }
+    field.rows = result.rows;
+    field.cols = result.cols;
+    field.texel_um = texel_um;
+    field.heights_um = std::move(result.heights_um);
+    record_preparation(field, describe(report));
+    return report;
+}
+
+std::string describe(const ResampleReport& report) {
+    char filter[64] = "bicubic interpolation";
+    if (report.prefiltered)
+        std::snprintf(filter, sizeof filter, "box prefilter over %.4g texels",
+                      report.texel_um / report.original_texel_um);
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "resample: %dx%d samples of %.6g um -> %dx%d of %.6g um (extent %.6g x %.6g um -> %.6g x %.6g um), "
+                  "%s, %s borders",
+                  report.original_cols, report.original_rows, report.original_texel_um, report.cols, report.rows,
+                  report.texel_um, report.original_cols * report.original_texel_um,
+                  report.original_rows * report.original_texel_um, report.cols * report.texel_um,
+                  report.rows * report.texel_um, filter,
+                  report.tiling == Tiling::periodic ? "periodic" : "point-reflected");
+    return line;
+}
+
+}  // namespace glintscope

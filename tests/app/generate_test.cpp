@@ -1,0 +1,82 @@
+// `glintscope generate`: writes the requested surface, and refuses absurd parameters with a
+// one-line message, exit code 1 and no output file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "cli_runner.hpp"
+#include "glintscope/heightfield_io.hpp"
+#include "glintscope/statistics.hpp"
+
+namespace glintscope {
+namespace {
+
+using testing::run_cli;
+using testing::TemporaryDirectory;
+
+TEST(GenerateCommand, WritesTheRequestedSurface) {
+    const TemporaryDirectory directory;
+    const std::string output = directory.file("grating.exr");
+    const auto result = run_cli({"generate", "grating", "--size", "64", "--texel", "250nm", "--period", "4um",
+                                 "--amplitude", "100nm", "-o", output});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    const Heightfield field = load_heightfield(output);
+    EXPECT_EQ(field.rows, 64);
+    EXPECT_EQ(field.cols, 64);
+    EXPECT_DOUBLE_EQ(field.texel_um, 0.25);
+    EXPECT_NEAR(compute_statistics(field).sq_um, 0.1 / std::sqrt(2.0), 1e-6);
+    EXPECT_EQ(field.provenance.at("generator"), "grating");
+    EXPECT_EQ(field.provenance.at("generator.period_um"), "4");
+}
+
+TEST(GenerateCommand, OptionsOverrideARecipe) {
+    const TemporaryDirectory directory;
+    const std::string recipe = directory.file("small.recipe");
+    std::ofstream(recipe) << "kind = isotropic\nsize = 96\ncorrelation_length_x = 5um\ncorrelation_length_y = 5um\n";
+    const std::string output = directory.file("small.exr");
+    const auto result = run_cli({"generate", "--recipe", recipe, "--seed", "9", "--sigma-h", "0.5um", "-o", output});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    const Heightfield field = load_heightfield(output);
+    EXPECT_EQ(field.rows, 96);
+    EXPECT_EQ(field.provenance.at("generator.preset"), "isotropic");
+    EXPECT_EQ(field.provenance.at("generator.seed"), "9");
+    EXPECT_EQ(field.provenance.at("generator.sigma_h_um"), "0.5");
+    EXPECT_NEAR(compute_statistics(field).sq_um, 0.5, 1e-5);
+}
+
+TEST(GenerateCommand, BadParameterIsAOneLineErrorWithNoOutput) {
+    const TemporaryDirectory directory;
+    const auto result =
+        run_cli({"generate", "isotropic", "--size", "64", "--sigma-h=-1um", "-o", directory.file("bad.exr")});
+    EXPECT_EQ(result.exit_code, 1);
+    EXPECT_EQ(result.output, "glintscope: error: sigma_h must be a positive length, got -1 um\n");
+    EXPECT_EQ(testing::count_entries(directory.path()), 0);
+}
+
+TEST(GenerateCommand, OptionOfAnotherKindIsRefused) {
+    const TemporaryDirectory directory;
+    const auto result = run_cli({"generate", "grating", "--seed", "3", "-o", directory.file("g.exr")});
+    EXPECT_EQ(result.exit_code, 1);
+    EXPECT_NE(result.output.find("seed does not apply to kind 'grating'"), std::string::npos) << result.output;
+    EXPECT_EQ(testing::count_entries(directory.path()), 0);
+}
+
+TEST(GenerateCommand, UnknownKindIsRefused) {
+    const TemporaryDirectory directory;
+    const auto result = run_cli({"generate", "velvet", "-o", directory.file("v.exr")});
+    EXPECT_EQ(result.exit_code, 1);
+    EXPECT_NE(result.output.find("unknown heightfield kind 'velvet'"), std::string::npos) << result.output;
+    EXPECT_EQ(testing::count_entries(directory.path()), 0);
+}
+
+TEST(GenerateCommand, HelpShowsUnitsAndDefaults) {
+    const auto result = run_cli({"generate", "--help"});
+    EXPECT_EQ(result.exit_code, 0);
+    EXPECT_NE(result.output.find("--sigma-h LENGTH"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("isotropic: 1.2 um"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("--orientation DEGREES"), std::string::npos) << result.output;
+}
+
+}  // namespace
+}  // namespace glintscope

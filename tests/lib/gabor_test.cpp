@@ -1,0 +1,338 @@
+// The Gabor-kernel lobe (Yan 2018 §4–5): one kernel's transform, energy conservation on a flat
+// mirror, agreement with the FFT ground truth, reciprocity, point queries against images,
+// thread-count independence and option errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "gabor_kernels.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/fft_lobe.hpp"
+#include "glintscope/gabor.hpp"
+#include "glintscope/generate.hpp"
+#include "glintscope/material.hpp"
+#include "glintscope/parallel.hpp"
+
+namespace glintscope {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// The canonical isotropic surface: 1024² at 1 µm, rms slope 0.17 per axis (Yan 2018 Fig. 8).
+const std::shared_ptr<const Heightfield>& isotropic_field() {
+    static const auto field = std::make_shared<const Heightfield>(generate_builtin("isotropic"));
+    return field;
+}
+
+LobeQuery isotropic_query(int resolution) {
+    LobeQuery query;
+    query.field = isotropic_field();
+    static const auto surface = std::make_shared<const BicubicInterpolant>(*isotropic_field());
+    query.surface = surface;
+    query.footprint.centre_um = isotropic_field()->centre_um();
+    query.footprint.sigma_um = 10.0;
+    query.resolution = resolution;
+    query.wavelengths_um = {0.5};
+    return query;
+}
+
+double relative_l2(const LobeImage& image, const LobeImage& reference) {
+    double difference = 0.0;
+    double norm = 0.0;
+    for (std::size_t i = 0; i < image.values.size(); ++i) {
+        const double d = double(image.values[i]) - reference.values[i];
+        difference += d * d;
+        norm += double(reference.values[i]) * reference.values[i];
+    }
+    return std::sqrt(difference / norm);
+}
+
+Vec3 pixel_direction(int row, int col, int resolution) {
+    const DiskPoint p = disk_pixel_point(row, col, resolution);
+    return direction_from_disk(p.x, p.y);
+}
+
+// ---- One kernel -------------------------------------------------------------------------------
+
+// F[g](v) by direct quadrature of the sampled kernel: a Riemann sum over ±8σ at step σ/40,
+// which for a Gaussian envelope converges far below the 1e-6 asked of the closed form.
+std::complex<double> transform_by_quadrature(const GaborKernel& kernel, Point2 v) {
+    const double step = kernel.sigma_um / 40.0;
+    const int half = 320;
+    std::complex<double> sum = 0.0;
+    for (int j = -half; j <= half; ++j)
+        for (int i = -half; i <= half; ++i) {
+            const Point2 s{kernel.centre_um.x + i * step, kernel.centre_um.y + j * step};
+            const double phase = -2.0 * kPi * (s.x * v.x + s.y * v.y);
+            sum += gabor_kernel_value(kernel, s) * std::complex<double>(std::cos(phase), std::sin(phase));
+        }
+    return sum * step * step;
+}
+
+TEST(GaborKernel, TransformMatchesQuadratureAndNotTheMisprint) {
+    const GaborKernel kernel{{3.2, -1.7}, 0.5, {0.8, -0.3}};
+    double worst_misprint_error = 0.0;
+    for (const Point2 v : {Point2{-0.8, 0.3}, Point2{-0.5, 0.1}, Point2{0.2, 0.4}, Point2{-1.3, 0.9}}) {
+        const std::complex<double> numeric = transform_by_quadrature(kernel, v);
+        const std::complex<double> closed = gabor_kernel_transform(kernel, v);
+        EXPECT_LT(std::abs(closed - numeric), 1e-6 * std::max(1e-3, std::abs(numeric)))
+            << "v = (" << v.x << ", " << v.y << ")";
+        // Eq. 8 as printed puts a, not μ, in the phase: e^{−i2π a·(v + a)}.
+        const double ux = v.x + kernel.frequency.x;
+        const double uy = v.y + kernel.frequency.y;
+        const double printed_phase = -2.0 * kPi * (kernel.frequency.x * ux + kernel.frequency.y * uy);
+        const std::complex<double> printed =
+            std::abs(closed) * std::complex<double>(std::cos(printed_phase), std::sin(printed_phase));
+        worst_misprint_error = std::max(worst_misprint_error, std::abs(printed - numeric) / std::abs(numeric));
+    }
+    EXPECT_GT(worst_misprint_error, 0.5);
+}
+
+// The kernel sum uses C_k F[g_k](v) simplified (gabor_kernels.hpp); it must equal the literal
+// product of eq. 14, 15 and 8, up to the common phase it drops.
+TEST(GaborKernel, SimplifiedTermEqualsLiteralEquations) {
+    const SurfacePoint at_centre{0.37, 0.21, -0.14};
+    const Point2 centre{13.25, -7.75};
+    const Point2 x_c{10.0, -5.0};
+    const double reference_height = 0.05;
+    const double cell = 0.5, lambda = 0.45, xi3 = 1.8;
+    GaborSettings settings;
+    settings.kernels_per_texel = 2;
+    settings.kernel_sigmas = 5.0;
+    const gabor::KernelGrid grid = gabor::kernel_grid(1.0, settings);
+    gabor::KernelArrays kernels;
+    kernels.reserve_more(1);
+    kernels.push(centre.x - x_c.x, centre.y - x_c.y, at_centre, reference_height, cell * cell);
+    for (const Point2 v : {Point2{-0.9, 0.5}, Point2{-0.6, 0.2}}) {
+        const GaborCellKernel literal = gabor_cell_kernel(centre, cell, at_centre, 1.0, xi3, lambda);
+        const std::complex<double> expected = literal.coefficient * gabor_kernel_transform(literal.kernel, v);
+        gabor::TransformPoint point;
+        point.vx = v.x;
+        point.vy = v.y;
+        point.xi3_over_lambda = xi3 / lambda;
+        // The dropped phase: e^{i2π(x_c·v + ξ3 H_ref/λ)}.
+        const double common = 2.0 * kPi * (x_c.x * v.x + x_c.y * v.y + xi3 * reference_height / lambda);
+        const std::complex<double> simplified = gabor::sum_transforms(kernels, 0, 1, point, grid) *
+                                                std::complex<double>(std::cos(common), -std::sin(common));
+        EXPECT_LT(std::abs(simplified - expected), 1e-9 * std::abs(expected));
+    }
+}
+
+// ---- Flat mirror: all light goes into the specular peak ------------------------------------------
+
+// For H = 0, |R̃*|² = |w̃_G|², and Parseval (∫|w̃_G(v)|² dv = ∫|w_G|² ds, dω̄_o = λ² dv) makes the
+// albedo Σ f_r (2/N)² = F ξ1λ² ∫|w_G|²/A_c = F ∫|w_G|²/A_c at the specular peak, for every model.
+// The Gabor sum stands for w convolved with the kernels' Gaussian G(σ_k) (Poisson summation), a
+// Gaussian of variance σ_c² + σ_k², so ∫|w_G|²/A_c = σ_c²/(σ_c² + σ_k²): 0.25% short of F at
+// σ_c = 5 µm with K = 2, 1.5% short at σ_c = 2 µm.
+double flat_mirror_albedo(DiffractionModel model, double sigma_um, int resolution, int supersample) {
+    LobeQuery query;
+    set_heightfield(query, make_heightfield(64, 64, 1.0));
+    query.footprint.centre_um = {20.0, 30.0};
+    query.footprint.sigma_um = sigma_um;
+    query.omega_i = direction_from_spherical(30.0 * kPi / 180.0, 40.0 * kPi / 180.0);
+    query.material.name = "Al";
+    query.resolution = resolution;
+    query.supersample = supersample;
+    query.model = model;
+    const LobeImage image = compute_lobe("gabor", query);
+    double albedo = 0.0;
+    for (const float value : image.values) albedo += value * disk_pixel_area(query.resolution);
+    return albedo / fresnel_reflectance("Al", 0.5, query.omega_i.z);
+}
+
+TEST(GaborLobe, FlatMirrorReflectsFresnelReflectance) {
+    // The peak's standard deviation in ω̄ is λ/(2√2 π σ_c) = 0.011, one sample of the 192² grid of
+    // sub-pixels: a Gaussian's Riemann sum at that spacing is exact to ~e^{−2π²} = 3e-9.
+    for (const DiffractionModel model : {DiffractionModel::ohs, DiffractionModel::ghs, DiffractionModel::rohs,
+                                         DiffractionModel::rghs, DiffractionModel::kirchhoff})
+        EXPECT_NEAR(flat_mirror_albedo(model, 5.0, 96, 2), 1.0, 0.005) << to_string(model);
+    // The kernel width's share, σ_c²/(σ_c² + σ_k²) with σ_k = 0.25 µm, at σ_c = 2 µm.
+    EXPECT_NEAR(flat_mirror_albedo(DiffractionModel::rohs, 2.0, 64, 2), 4.0 / (4.0 + 0.0625), 0.002);
+}
+
+// ---- Agreement with the FFT ground truth -------------------------------------------------------
+
+// Yan 2018 Fig. 11 quantified: R-OHS at 0.5 µm, σ_c = 10 µm, normal incidence, footprint at the
+// field's centre. Measured: 19.3% at K = 1, 5.2% at K = 2, 1.31% at K = 4.
+TEST(GaborLobe, ApproachesFftGroundTruthAsKernelsDensify) {
+    LobeQuery query = isotropic_query(256);
+    const LobeImage reference = compute_lobe("fft", query);
+    query.method_options["kernels_per_texel"] = "2";
+    const double error_k2 = relative_l2(compute_lobe("gabor", query), reference);
+    query.method_options["kernels_per_texel"] = "4";
+    const double error_k4 = relative_l2(compute_lobe("gabor", query), reference);
+    EXPECT_LT(error_k2, 0.06);
+    EXPECT_LT(error_k4, 0.015);
+}
+
+// ---- Reciprocity --------------------------------------------------------------------------------
+
+// f_r(ω_i → pixel Q) from the image lit from pixel P equals f_r(ω_i → pixel P) lit from Q.
+double reciprocity_error(DiffractionModel model, int resolution, int row_p, int col_p, int row_q, int col_q) {
+    LobeQuery query = isotropic_query(resolution);
+    query.model = model;
+    query.omega_i = pixel_direction(row_p, col_p, resolution);
+    const double forward = compute_lobe("gabor", query).at(0, row_q, col_q);
+    query.omega_i = pixel_direction(row_q, col_q, resolution);
+    const double backward = compute_lobe("gabor", query).at(0, row_p, col_p);
+    return std::fabs(forward - backward) / std::max(forward, backward);
+}
+
+TEST(GaborLobe, ReciprocalModelsAreReciprocal) {
+    // Pairs whose ψ̄ is short enough to fall inside the lobe, in a 32² image.
+    const int pairs[][4] = {{13, 19, 18, 12}, {9, 15, 22, 17}, {16, 24, 14, 9}};
+    for (const DiffractionModel model : {DiffractionModel::rohs, DiffractionModel::rghs, DiffractionModel::kirchhoff})
+        for (const auto& pair : pairs)
+            EXPECT_LT(reciprocity_error(model, 32, pair[0], pair[1], pair[2], pair[3]), 1e-4) << to_string(model);
+    // OHS is not reciprocal (ξ1 = cos θ_o / cos θ_i): the same check fails for it.
+    EXPECT_GT(reciprocity_error(DiffractionModel::ohs, 32, 9, 15, 22, 17), 1e-3);
+}
+
+// ---- Point queries --------------------------------------------------------------------------------
+
+// Every pixel of a 32² image against a point query of its centre direction: the pruning
+// hierarchy drops only kernels whose truncated transform is zero there, so the values agree to
+// the single-precision matrix product of R-OHS images, and to the images' float storage for the
+// pixel-by-pixel models.
+TEST(GaborSurface, PointQueriesEqualImagePixels) {
+    const int resolution = 32;
+    LobeQuery query = isotropic_query(resolution);
+    query.omega_i = direction_from_spherical(20.0 * kPi / 180.0, 200.0 * kPi / 180.0);
+    for (const int density : {1, 2}) {
+        query.method_options["kernels_per_texel"] = std::to_string(density);
+        GaborSettings settings;
+        settings.kernels_per_texel = density;
+        const GaborSurface surface(query.surface, settings);
+        for (const auto& [model, tolerance] : {std::pair{DiffractionModel::rohs, 1e-4},
+                                               std::pair{DiffractionModel::rghs, 1e-6},
+                                               std::pair{DiffractionModel::kirchhoff, 1e-6}}) {
+            query.model = model;
+            const LobeImage image = compute_lobe("gabor", query);
+            const double peak = *std::max_element(image.values.begin(), image.values.end());
+            const double footprint_kernels = std::stod(image.metadata.at("gabor.kernels"));
+            GaborPointQuery point{query.footprint, query.omega_i, {}, model, {}};
+            double fewest_summed = footprint_kernels;
+            for (int row = 0; row < resolution; ++row)
+                for (int col = 0; col < resolution; ++col) {
+                    const DiskPoint p = disk_pixel_point(row, col, resolution);
+                    if (p.x * p.x + p.y * p.y >= 1.0) continue;
+                    point.omega_o = direction_from_disk(p.x, p.y);
+                    GaborQueryStatistics statistics;
+                    const double value = surface.f_r(point, 0.5, &statistics);
+                    EXPECT_NEAR(value, image.at(0, row, col), tolerance * std::max(value, 1e-3 * peak))
+                        << to_string(model) << " K = " << density << " pixel " << row << ", " << col;
+                    fewest_summed = std::min(fewest_summed, double(statistics.kernels_summed));
+                }
+            // Pruning is at work: far from the lobe most kernels are dropped (measured: 97% at
+            // K = 1, 82% at K = 2, whose transforms reach twice as far).
+            EXPECT_LT(fewest_summed, (density == 1 ? 0.05 : 0.25) * footprint_kernels)
+                << to_string(model) << " K = " << density;
+        }
+    }
+}
+
+TEST(GaborSurface, SpectralQueryEqualsSingleWavelengthQueries) {
+    const LobeQuery query = isotropic_query(32);
+    const GaborSurface surface(query.surface);
+    const std::vector<double> wavelengths{0.4, 0.55, 0.7};
+    for (const DiffractionModel model : {DiffractionModel::rohs, DiffractionModel::kirchhoff}) {
+        const GaborPointQuery point{query.footprint, query.omega_i, pixel_direction(12, 18, 32), model, {}};
+        const std::vector<double> together = surface.f_r(point, wavelengths);
+        for (std::size_t i = 0; i < wavelengths.size(); ++i)
+            EXPECT_NEAR(together[i], surface.f_r(point, wavelengths[i]), 1e-9 * together[i]);
+    }
+}
+
+// The surface tiles: a footprint across the field's corner, or one tile away, sees the same
+// kernels as the image method, which reads the periodic interpolant directly.
+TEST(GaborSurface, FootprintWrapsAroundThePeriodicField) {
+    LobeQuery query = isotropic_query(16);
+    query.footprint.centre_um = {3.0, 1020.0};
+    const LobeImage image = compute_lobe("gabor", query);
+    const GaborSurface surface(query.surface);
+    GaborPointQuery point{query.footprint, query.omega_i, pixel_direction(7, 9, 16), DiffractionModel::rohs, {}};
+    const double near_corner = surface.f_r(point, 0.5);
+    EXPECT_NEAR(near_corner, image.at(0, 7, 9), 1e-4 * near_corner);
+    point.footprint.centre_um = {3.0 - 1024.0, 1020.0 + 2048.0};
+    EXPECT_NEAR(surface.f_r(point, 0.5), near_corner, 1e-9 * near_corner);
+}
+
+// ---- Threads and errors -----------------------------------------------------------------------
+
+TEST(GaborLobe, IdenticalForAnyThreadCount) {
+    for (const DiffractionModel model : {DiffractionModel::rohs, DiffractionModel::kirchhoff}) {
+        LobeQuery query = isotropic_query(64);
+        query.model = model;
+        query.omega_i = direction_from_spherical(0.3, 1.0);
+        set_thread_count(1);
+        const LobeImage one = compute_lobe("gabor", query);
+        set_thread_count(3);
+        const LobeImage three = compute_lobe("gabor", query);
+        set_thread_count(0);
+        EXPECT_EQ(one.values, three.values) << to_string(model);
+    }
+}
+
+TEST(GaborLobe, RecordsKernelGridInMetadata) {
+    LobeQuery query = isotropic_query(16);
+    query.method_options["kernels_per_texel"] = "3";
+    const LobeImage image = compute_lobe("gabor", query);
+    EXPECT_EQ(image.metadata.at("gabor.kernels_per_texel"), "3");
+    EXPECT_NEAR(std::stod(image.metadata.at("gabor.kernel_spacing_um")), 1.0 / 3.0, 1e-9);
+    // 3.5σ_c disc of radius 35 µm at 9 kernels per µm²: π·35²·9 ≈ 34 636.
+    EXPECT_NEAR(std::stod(image.metadata.at("gabor.kernels")), kPi * 35.0 * 35.0 * 9.0, 100.0);
+    EXPECT_EQ(image.metadata.at("gabor.kernel_truncation_sigmas"), "3");
+}
+
+void expect_error(const std::map<std::string, std::string>& options, const std::string& fragment) {
+    LobeQuery query = isotropic_query(16);
+    query.method_options = options;
+    try {
+        compute_lobe("gabor", query);
+        ADD_FAILURE() << "no error for " << options.begin()->first << "=" << options.begin()->second;
+    } catch (const Error& error) {
+        EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what();
+    }
+}
+
+TEST(GaborLobe, RejectsBadOptions) {
+    expect_error({{"kernels_per_texel", "0"}}, "kernels_per_texel");
+    expect_error({{"kernels_per_texel", "1.5"}}, "integer");
+    expect_error({{"kernels_per_texel", "17"}}, "kernels_per_texel");
+    expect_error({{"kernels_per_texel", "two"}}, "not a number");
+    expect_error({{"footprint_truncation", "0.5"}}, "footprint truncation");
+    expect_error({{"kernel_truncation", "9"}}, "kernel truncation");
+    expect_error({{"step", "0.1um"}}, "has no option 'step'");
+    // A footprint of 10⁹ kernels is refused before any work.
+    LobeQuery huge = isotropic_query(16);
+    huge.footprint.sigma_um = 5000.0;
+    EXPECT_THROW(compute_lobe("gabor", huge), Error);
+}
+
+TEST(GaborSurface, RejectsBadInput) {
+    EXPECT_THROW(GaborSurface(nullptr), Error);
+    GaborSettings settings;
+    settings.kernels_per_texel = 0;
+    EXPECT_THROW(GaborSurface(isotropic_query(16).surface, settings), Error);
+    const GaborSurface surface(isotropic_query(16).surface);
+    GaborPointQuery point;
+    point.footprint.centre_um = {10.0, 10.0};
+    EXPECT_THROW(surface.f_r(point, std::nan("")), Error);
+    EXPECT_THROW(surface.f_r(point, -0.5), Error);
+    point.omega_o = {std::nan(""), 0.0, 1.0};
+    EXPECT_THROW(surface.f_r(point, 0.5), Error);
+    point.omega_o = {0.0, 0.6, -0.8};  // below the horizon
+    EXPECT_EQ(surface.f_r(point, 0.5), 0.0);
+    point.omega_o = {0.0, 0.0, 1.0};
+    point.footprint.sigma_um = 5000.0;
+    EXPECT_THROW(surface.f_r(point, 0.5), Error);
+}
+
+}  // namespace
+}  // namespace glintscope

@@ -1,0 +1,214 @@
+// Writing lobe images: EXR round trips, the spectral channel naming, PNG and JSON contents.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <numbers>
+#include <regex>
+#include <sstream>
+
+#include <OpenImageIO/imageio.h>
+
+#include "cli_runner.hpp"
+#include "scoped_ocio.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/lobe_output.hpp"
+
+namespace glintscope {
+namespace {
+
+// A lobe with distinct, irregular values in every layer, and metadata.
+LobeImage sample_lobe(int resolution, const std::vector<double>& wavelengths) {
+    LobeImage lobe = make_lobe_image(resolution, wavelengths);
+    for (std::size_t i = 0; i < lobe.values.size(); ++i)
+        lobe.values[i] = float(std::exp(std::sin(0.37 * double(i)) * 3.0) / 7.0);
+    lobe.metadata["method"] = "test";
+    lobe.metadata["query.omega_i"] = "0.1,0.2,0.97467943448089633";
+    lobe.metadata["query.note"] = "quotes \" and\ttabs";
+    return lobe;
+}
+
+class LobeOutput : public ::testing::Test {
+protected:
+    testing::ScopedOcio no_ocio{std::nullopt};  // the built-in colour config
+    testing::TemporaryDirectory directory;
+};
+
+TEST_F(LobeOutput, SingleWavelengthExrRoundTripIsExact) {
+    const LobeImage lobe = sample_lobe(24, {0.5});
+    const std::string path = directory.file("lobe.exr");
+    write_lobe_exr(lobe, path, LobeOutputOptions{});
+    const LobeImage back = load_lobe_exr(path);
+    EXPECT_EQ(back.resolution, lobe.resolution);
+    EXPECT_EQ(back.wavelengths_um, lobe.wavelengths_um);
+    ASSERT_EQ(back.values.size(), lobe.values.size());
+    EXPECT_EQ(std::memcmp(back.values.data(), lobe.values.data(), lobe.values.size() * sizeof(float)), 0);
+    EXPECT_EQ(back.metadata, lobe.metadata);
+
+    auto input = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(input);
+    EXPECT_EQ(input->spec().nchannels, 1);
+    EXPECT_EQ(input->spec().channel_name(0), "Y");
+    EXPECT_EQ(input->spec().get_string_attribute("glintscope:method"), "test");
+    EXPECT_EQ(input->spec().get_string_attribute("glintscope:output.units"), "sr^-1");
+}
+
+TEST_F(LobeOutput, SpectralExrRoundTripIsExactAndNamesChannelsByWavelength) {
+    const std::vector<double> wavelengths = spectral_bin_centres_um(8);
+    const LobeImage lobe = sample_lobe(16, wavelengths);
+    LobeOutputOptions options;
+    options.spectral_channels = true;
+    const std::string path = directory.file("spectral.exr");
+    write_lobe_exr(lobe, path, options);
+
+    const LobeImage back = load_lobe_exr(path);
+    EXPECT_EQ(back.wavelengths_um, wavelengths);
+    EXPECT_EQ(std::memcmp(back.values.data(), lobe.values.data(), lobe.values.size() * sizeof(float)), 0);
+    EXPECT_EQ(back.metadata, lobe.metadata);
+
+    auto input = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(input);
+    const OIIO::ImageSpec& spec = input->spec();
+    EXPECT_EQ(spec.nchannels, 3 + 8);
+    for (const char* name : {"R", "G", "B", "S0.389,375000nm", "S0.800,625000nm"})
+        EXPECT_GE(spec.channelindex(name), 0) << name;
+    EXPECT_EQ(spec.get_string_attribute("spectralLayoutVersion"), "1.0");
+    EXPECT_EQ(spec.get_string_attribute("emissiveUnits"), "W.m^-2.sr^-1");
+
+    // R, G, B hold the colour conversion of the spectrum.
+    std::vector<float> pixels(std::size_t(16) * 16 * spec.nchannels);
+    ASSERT_TRUE(input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()));
+    const std::vector<float> rgb = lobe_to_rgb(lobe, ColourSettings{});
+    const std::size_t centre = 8 * 16 + 8;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(pixels[centre * spec.nchannels + spec.channelindex(std::string(1, "RGB"[c]))], rgb[centre * 3 + c]);
+}
+
+TEST_F(LobeOutput, SpectralChannelNamesFollowFichet2021) {
+    EXPECT_EQ(spectral_channel_name(0.56), "S0.560,000000nm");
+    EXPECT_EQ(spectral_channel_name(0.389375), "S0.389,375000nm");
+    // The paper's grammar: component, '.', a number with ',' as decimal mark, SI prefix, unit.
+    const std::regex grammar(R"(^S([0-3])\.(\d*,?\d*([Ee][+-]?\d+)?)(Y|Z|E|P|T|G|M|k|h|da|d|c|m|u|n|p)?(m|Hz)$)");
+    for (double lambda : spectral_bin_centres_um(47)) {
+        const std::string name = spectral_channel_name(lambda);
+        std::smatch match;
+        ASSERT_TRUE(std::regex_match(name, match, grammar)) << name;
+        EXPECT_EQ(match[1], "0");
+        EXPECT_EQ(match[4], "n");
+        EXPECT_EQ(match[5], "m");
+        std::string number = match[2];
+        number[number.find(',')] = '.';
+        EXPECT_NEAR(std::stod(number), lambda * 1e3, 1e-6) << name;
+    }
+}
+
+TEST_F(LobeOutput, RgbOnlySpectralExrCannotBeReadBack) {
+    const std::string path = directory.file("rgb.exr");
+    write_lobe_exr(sample_lobe(8, spectral_bin_centres_um(4)), path, LobeOutputOptions{});
+    auto input = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(input);
+    EXPECT_EQ(input->spec().nchannels, 3);
+    EXPECT_THROW(load_lobe_exr(path), Error);
+}
+
+TEST_F(LobeOutput, SummaryFindsThePeakAndTheAlbedo) {
+    // A Lambertian lobe f_r = ρ/π has directional albedo ρ; Σ f_r (2/N)² reaches it up to the
+    // staircase edge of the disk, O(1/N).
+    const int n = 256;
+    const double rho = 0.6;
+    LobeImage lobe = make_lobe_image(n, {0.5, 0.6});
+    for (std::size_t layer = 0; layer < 2; ++layer)
+        for (int row = 0; row < n; ++row)
+            for (int col = 0; col < n; ++col) {
+                const DiskPoint p = disk_pixel_point(row, col, n);
+                if (p.x * p.x + p.y * p.y <= 1.0) lobe.at(layer, row, col) = float(rho / std::numbers::pi);
+            }
+    lobe.at(1, 40, 200) = 5.0f;
+    const std::vector<WavelengthSummary> summary = summarize_lobe(lobe);
+    ASSERT_EQ(summary.size(), 2u);
+    EXPECT_NEAR(summary[0].albedo, rho, 2e-3);
+    EXPECT_EQ(summary[1].peak_value, 5.0f);
+    EXPECT_EQ(summary[1].peak_row, 40);
+    EXPECT_EQ(summary[1].peak_col, 200);
+    const DiskPoint p = disk_pixel_point(40, 200, n);
+    EXPECT_NEAR(summary[1].peak_direction.x, p.x, 1e-12);
+    EXPECT_NEAR(summary[1].peak_direction.y, p.y, 1e-12);
+    EXPECT_NEAR(summary[1].peak_direction.z, std::sqrt(1.0 - p.x * p.x - p.y * p.y), 1e-12);
+    EXPECT_NEAR(summary[1].albedo - summary[0].albedo, (5.0 - rho / std::numbers::pi) * 4.0 / (n * n), 1e-9);
+}
+
+TEST_F(LobeOutput, JsonSidecarCarriesMetadataWavelengthsAndSummary) {
+    const LobeImage lobe = sample_lobe(16, spectral_bin_centres_um(8));
+    const std::string path = directory.file("lobe.json");
+    write_lobe(lobe, path, LobeOutputOptions{});
+    std::stringstream text;
+    text << std::ifstream(path).rdbuf();
+    const std::string json = text.str();
+    EXPECT_NE(json.find("\"wavelengths_um\": [0.389375,"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"method\": \"test\""), std::string::npos);
+    EXPECT_NE(json.find("\"query.note\": \"quotes \\\" and\\ttabs\""), std::string::npos);
+    EXPECT_NE(json.find("\"albedo\": "), std::string::npos);
+    EXPECT_NE(json.find("\"png_exposure_rule\": \"auto: 99.5th percentile"), std::string::npos);
+    // The braces balance (a cheap structural check without a JSON parser).
+    int depth = 0;
+    bool in_string = false;
+    for (std::size_t i = 0; i < json.size(); ++i) {
+        if (json[i] == '\\') ++i;
+        else if (json[i] == '"') in_string = !in_string;
+        else if (!in_string && (json[i] == '{' || json[i] == '[')) ++depth;
+        else if (!in_string && (json[i] == '}' || json[i] == ']')) --depth;
+        EXPECT_GE(depth, 0);
+    }
+    EXPECT_EQ(depth, 0);
+}
+
+TEST_F(LobeOutput, PngIsDisplayEncodedWithExposureInItsText) {
+    const std::string spectral = directory.file("spectral.png");
+    const DisplayExposure exposure = write_lobe_png(sample_lobe(16, spectral_bin_centres_um(8)), spectral, {});
+    auto input = OIIO::ImageInput::open(spectral);
+    ASSERT_TRUE(input);
+    EXPECT_EQ(input->spec().width, 16);
+    EXPECT_EQ(input->spec().nchannels, 3);
+    EXPECT_EQ(input->spec().format, OIIO::TypeDesc::UINT8);
+    EXPECT_EQ(std::stod(input->spec().get_string_attribute("glintscope:output.exposure_ev")), exposure.ev);
+
+    LobeOutputOptions grey;
+    grey.colormap = "grey";
+    grey.colour.exposure_ev = 0.0;
+    LobeImage single = make_lobe_image(16, {0.5});
+    single.at(0, 8, 8) = 0.5f;
+    const std::string grey_path = directory.file("grey.png");
+    write_lobe_png(single, grey_path, grey);
+    auto grey_input = OIIO::ImageInput::open(grey_path);
+    ASSERT_TRUE(grey_input);
+    std::vector<unsigned char> pixels(16 * 16 * 3);
+    ASSERT_TRUE(grey_input->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data()));
+    EXPECT_EQ(pixels[(8 * 16 + 8) * 3], 188);  // sRGB encoding of 0.5
+
+    const std::string mapped = directory.file("mapped.png");
+    write_lobe_png(single, mapped, LobeOutputOptions{});  // inferno with a legend
+    auto mapped_input = OIIO::ImageInput::open(mapped);
+    ASSERT_TRUE(mapped_input);
+    EXPECT_GT(mapped_input->spec().width, 16);  // enlarged, with the colour bar beside it
+}
+
+TEST_F(LobeOutput, RejectsBadRequestsWithoutLeavingFiles) {
+    const LobeImage lobe = sample_lobe(8, {0.5});
+    EXPECT_THROW(write_lobe(lobe, directory.file("lobe.tiff"), {}), Error);
+    LobeOutputOptions jet;
+    jet.colormap = "jet";
+    EXPECT_THROW(write_lobe(lobe, directory.file("lobe.png"), jet), Error);
+    LobeOutputOptions bad_space;
+    bad_space.colour.output_space = "nope";
+    EXPECT_THROW(write_lobe(sample_lobe(8, {0.45, 0.55}), directory.file("lobe.exr"), bad_space), Error);
+    EXPECT_THROW(write_lobe(lobe, directory.file("missing/lobe.exr"), {}), Error);
+    LobeImage broken = lobe;
+    broken.values.pop_back();
+    EXPECT_THROW(write_lobe(broken, directory.file("broken.exr"), {}), Error);
+    EXPECT_EQ(testing::count_entries(directory.path()), 0);
+}
+
+}  // namespace
+}  // namespace glintscope

@@ -1,0 +1,36 @@
+#pragma once
+// Runs the built glintscope executable, as a user would, for the command-line tests.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace glintscope::testing {
+
+struct CliResult {
+    int exit_code = -1;
+    std::string output;  // stdout and stderr together
+};
+
+CliResult run_cli(const std::vector<std::string>& arguments);
+
+// A fresh directory under the system temporary directory, removed when the object dies.
+class TemporaryDirectory {
+public:
+    TemporaryDirectory();
+    ~TemporaryDirectory();
+    TemporaryDirectory(const TemporaryDirectory&) = delete;
+    TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
+    std::filesystem::path path() const { return path_; }
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+private:
+    std::filesystem::path path_;
+};
+
+// The number of entries in a directory (to check that a failed command left no file behind).
+int count_entries(const std::filesystem::path& directory);
+
+// ../shared beside the checkout, where the conventions and test data live.
+std::string shared_path(const std::string& relative);
+
+}  // namespace glintscope::testing
