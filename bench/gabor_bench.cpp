@@ -49,7 +49,10 @@ void BM_GaborImage512SixteenWavelengthsDefaultDensity(benchmark::State& state) {
     query.wavelengths_um = visible_bins(16);
     for (auto _ : state) benchmark::DoNotOptimize(gabor_lobe(query));
 }
-BENCHMARK(BM_GaborImage512SixteenWavelengthsDefaultDensity)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_GaborImage512SixteenWavelengthsDefaultDensity)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 // Point queries at random footprint centres and outgoing directions over the whole hemisphere,
 // one kernel per texel; state.range(0) wavelengths per query. "per_omega_lambda" is the mean

@@ -51,7 +51,8 @@ void validate(const GaborSettings& settings) {
         throw Error("gabor: kernels_per_texel must be an integer from 1 to 16, got " +
                     std::to_string(settings.kernels_per_texel));
     if (!(settings.footprint_sigmas >= 1.0 && settings.footprint_sigmas <= 8.0))
-        throw Error("gabor: footprint truncation must be 1 to 8 sigma, got " + std::to_string(settings.footprint_sigmas));
+        throw Error("gabor: footprint truncation must be 1 to 8 sigma, got " +
+                    std::to_string(settings.footprint_sigmas));
     // exp_neg (gabor_math.hpp) is accurate for exponents up to 25 = 5².
     if (!(settings.kernel_sigmas >= 1.0 && settings.kernel_sigmas <= 5.0))
         throw Error("gabor: kernel truncation must be 1 to 5 sigma, got " + std::to_string(settings.kernel_sigmas));

@@ -1,12 +1,12 @@
 #include "gabor_kernels.hpp"
 
-#include "glintscope/error.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <numbers>
+
+#include "glintscope/error.hpp"
 
 // The SIMD helpers here and in gabor_math.hpp are always inlined, so the vector calling
 // convention that -Wpsabi warns about never applies.
@@ -45,6 +45,8 @@ template <typename T>
     T cos_phase;
     T sin_phase;
     gabor_math::cos_sin_turns(point.xi3_over_lambda * height + px * point.vx + py * point.vy, cos_phase, sin_phase);
+    // Outside the box exp_neg's argument may leave its range (even overflow to inf): a select,
+    // not a product, discards those lanes.
     const T kept = keep_inside(dx, dy, reach2, amplitude);
     sum_re += kept * cos_phase;
     sum_im -= kept * sin_phase;

@@ -215,7 +215,8 @@ void fill_axis(const AxisSamples& axis, double lambda, const KernelGrid& grid, d
                std::complex<double> factor, std::size_t k, AxisTable& table) {
     const int per_block = table.samples_per_block();
     for (int b = 0; b < table.blocks(); ++b) {
-        float* block = table.values.data() + (static_cast<std::size_t>(b) * table.kernels + k) * table.floats_per_block();
+        float* block =
+            table.values.data() + (static_cast<std::size_t>(b) * table.kernels + k) * table.floats_per_block();
         std::fill(block, block + table.floats_per_block(), 0.0f);
     }
     const int first = table.band_first[k];
@@ -374,8 +375,8 @@ LobeImage gabor_lobe(const LobeQuery& query) {
     ProductTables tables;
     for (std::size_t layer = 0; layer < query.wavelengths_um.size(); ++layer) {
         const double lambda = query.wavelengths_um[layer];
-        const LayerSetup setup{query, grid, window.area_um2(), lambda, gabor::FresnelAtWavelength(query.material, lambda),
-                               samples};
+        const gabor::FresnelAtWavelength fresnel(query.material, lambda);
+        const LayerSetup setup{query, grid, window.area_um2(), lambda, fresnel, samples};
         std::fill(sums.begin(), sums.end(), 0.0);
         if (per_sample)
             per_sample_layer(setup, kernels, sums);

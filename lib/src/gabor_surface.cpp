@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "gabor_kernels.hpp"
 #include "glintscope/error.hpp"
@@ -51,6 +52,36 @@ struct DirectionalReach {
     bool slope_reaches(double hx, double hy) const {
         return gabor::slopes_reach(vx, vy, xi3_over_lambda, reach, hx, hx, hy, hy);
     }
+};
+
+// w(p) = w(p_x, 0)·w(0, p_y) for both footprints: its factors at the kernel columns and rows
+// around one footprint centre, tabulated once per query instead of once per kernel.
+class SeparableWeights {
+public:
+    void tabulate(const gabor::CoherenceWindow& window, const gabor::KernelGrid& grid, double cx, double cy) {
+        tabulate_axis(window, grid, cx, true, first_column_, columns_);
+        tabulate_axis(window, grid, cy, false, first_row_, rows_);
+    }
+    double along_x(long long i) const { return columns_[i - first_column_]; }
+    double along_y(long long j) const { return rows_[j - first_row_]; }
+
+private:
+    static void tabulate_axis(const gabor::CoherenceWindow& window, const gabor::KernelGrid& grid, double centre,
+                              bool along_x, long long& first, std::vector<double>& factors) {
+        const double extent = window.half_extent_um();
+        first = static_cast<long long>(std::floor((centre - extent) / grid.spacing_um - 0.5));
+        const long long last = static_cast<long long>(std::ceil((centre + extent) / grid.spacing_um - 0.5));
+        factors.resize(last - first + 1);
+        for (long long i = first; i <= last; ++i) {
+            const double p = grid.centre(i) - centre;
+            factors[i - first] = along_x ? window.weight(p, 0.0) : window.weight(0.0, p);
+        }
+    }
+
+    long long first_column_ = 0;
+    long long first_row_ = 0;
+    std::vector<double> columns_;
+    std::vector<double> rows_;
 };
 
 void check_finite(const GaborPointQuery& query) {
@@ -154,7 +185,7 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
     const double extent = window.half_extent_um();
     thread_local std::vector<std::pair<int, int>> leaves;  // (row, column) of surviving leaves
     thread_local std::vector<SurfacePoint> points;
-    thread_local std::vector<double> column_weights;
+    thread_local SeparableWeights weights;
     GaborQueryStatistics counts;
 
     // Yan 2018 §5: top-down through the hierarchy, dropping nodes outside the footprint or whose
@@ -219,15 +250,13 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
         gabor::evaluate_kernels(*surface_, grid, i_min, j0, width, j1 - j0, points.data());
         counts.kernels_evaluated += points.size();
         kernels.reserve_more(points.size());
-        column_weights.resize(width);  // w is separable: one factor per column and per row
-        for (int i = i_min; i <= i_max; ++i) column_weights[i - i_min] = window.weight(grid.centre(i) - cx, 0.0);
         for (int j = j0; j < j1; ++j) {
             const double py = grid.centre(j) - cy;
-            const double row_weight = window.weight(0.0, py) * weight_scale;
+            const double row_weight = weights.along_y(j) * weight_scale;
             for (int i = static_cast<int>(first[j - j0]); i <= last[j - j0]; ++i) {
                 const SurfacePoint& p = points[static_cast<std::size_t>(j - j0) * width + (i - i_min)];
-                if (!reach.slope_reaches(p.dh_dx, p.dh_dy)) continue;
-                kernels.push(grid.centre(i) - cx, py, p, reference_height, column_weights[i - i_min] * row_weight);
+                kernels.push_if(reach.slope_reaches(p.dh_dx, p.dh_dy), grid.centre(i) - cx, py, p, reference_height,
+                                weights.along_x(i) * row_weight);
             }
         }
     };
@@ -240,6 +269,7 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
              tx <= std::llround(std::floor((centre.x + extent) / tile_x)); ++tx) {
             const double cx = centre.x - tx * tile_x;
             const double cy = centre.y - ty * tile_y;
+            weights.tabulate(window, grid, cx, cy);
             leaves.clear();
             find_leaves(cx, cy);
             // Adjacent surviving leaves of a row share one interpolant call.
@@ -283,7 +313,8 @@ std::vector<double> GaborSurface::f_r(const GaborPointQuery& query, const std::v
     const double area = gabor::CoherenceWindow(query.footprint, settings_.footprint_sigmas).area_um2();
     const auto sum = [&](const gabor::KernelArrays& kernels, std::size_t end, double lambda) {
         const gabor::TransformPoint point = gabor::transform_point(
-            query.model, gabor::FresnelAtWavelength(query.material, lambda), query.omega_i, query.omega_o, lambda, area);
+            query.model, gabor::FresnelAtWavelength(query.material, lambda), query.omega_i, query.omega_o, lambda,
+            area);
         if (statistics) statistics->kernels_summed += end;
         // Yan 2018 eq. 16–17.
         return point.brdf_scale * std::norm(gabor::sum_transforms(kernels, 0, end, point, grid));

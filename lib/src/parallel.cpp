@@ -13,12 +13,16 @@ namespace {
 
 std::atomic<int> requested_threads{0};
 
+// Read once: parallel_for is called from small inner loops too.
 int default_thread_count() {
-    if (const char* env = std::getenv("GLINTSCOPE_THREADS")) {
-        const int n = std::atoi(env);
-        if (n > 0) return n;
-    }
-    return std::max(1u, std::thread::hardware_concurrency());
+    static const int threads = [] {
+        if (const char* env = std::getenv("GLINTSCOPE_THREADS")) {
+            const int n = std::atoi(env);
+            if (n > 0) return n;
+        }
+        return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    }();
+    return threads;
 }
 
 }  // namespace

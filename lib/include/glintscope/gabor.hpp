@@ -60,19 +60,21 @@ struct GaborSettings {
     // K: kernel spacing l = dx/K. The default is the lowest K whose R-OHS lobe of the canonical
     // isotropic surface stays within 6% relative L2 of the FFT ground truth (docs/gabor.md).
     int kernels_per_texel = 2;
-    // Kernels farther than this many σ_c from x_c are dropped (Gaussian footprint only). The
-    // paper's 3σ_c costs 0.4% relative L2 at K = 4; 3.5σ_c costs < 0.1% (docs/gabor.md).
-    double footprint_sigmas = 3.5;
+    // Kernels farther than this many σ_c from x_c are dropped (Gaussian footprint only). Against
+    // 3.5σ_c, the paper's 3σ_c adds 0.4% relative L2 at K = 4, 3.25σ_c 0.06% (docs/gabor.md).
+    double footprint_sigmas = 3.25;
     // Each kernel's transform is zero outside |v + a_k| ≤ kernel_sigmas/(2πσ_k) per axis. The
     // paper's 3 standard deviations: 4 or 5 change the lobe by < 0.05% relative L2.
     double kernel_sigmas = 3.0;
 };
 
-// Throws Error naming the setting when it is out of range (K in 1..16, truncations in 1..8).
+// Throws Error naming the setting when it is out of range (K in 1..16, footprint truncation in
+// 1..8, kernel truncation in 1..5).
 void validate(const GaborSettings& settings);
 
-// The settings a lobe query asks for: method option "kernels_per_texel" (an integer), the
-// rest default. Throws Error for unknown options or bad values.
+// The settings a lobe query asks for, from its method options "kernels_per_texel" (an integer),
+// "footprint_truncation" and "kernel_truncation" (in σ), each defaulting as above. Throws Error
+// for unknown options or bad values.
 GaborSettings gabor_settings(const LobeQuery& query);
 
 // ---- Whole lobe images --------------------------------------------------------------------
@@ -96,7 +98,7 @@ struct GaborPointQuery {
 struct GaborQueryStatistics {
     std::size_t nodes_visited = 0;       // hierarchy nodes tested
     std::size_t kernels_evaluated = 0;   // kernels whose H, H' were interpolated
-    std::size_t kernels_summed = 0;      // kernels that survived pruning, per wavelength
+    std::size_t kernels_summed = 0;      // kernels passed to the sum, added up over wavelengths
 };
 
 // A heightfield prepared for point queries: a mip-style quadtree over the kernel grid whose
@@ -113,14 +115,14 @@ public:
     // or wavelength.
     double f_r(const GaborPointQuery& query, double lambda_um, GaborQueryStatistics* statistics = nullptr) const;
 
-    // f_r at several wavelengths: the hierarchy is traversed once at the longest wavelength,
-    // whose directional reach in slope space is the widest, and the surviving kernels are
-    // summed for every wavelength (Yan 2018 §5 "Spectral rendering").
+    // f_r at several wavelengths: the hierarchy is traversed and the kernels interpolated once,
+    // at the longest wavelength, whose directional reach in slope space is the widest; each
+    // wavelength then sums the survivors that reach it (Yan 2018 §5 "Spectral rendering").
     std::vector<double> f_r(const GaborPointQuery& query, const std::vector<double>& wavelengths_um,
                             GaborQueryStatistics* statistics = nullptr) const;
 
     const GaborSettings& settings() const { return settings_; }
-    std::size_t memory_bytes() const;
+    std::size_t memory_bytes() const;  // of the hierarchy (the interpolant is shared)
 
     struct SlopeBox {  // range of ∂H/∂x and ∂H/∂y over a node's kernels, rounded outward
         float x_min, x_max, y_min, y_max;
@@ -135,7 +137,7 @@ private:
 
     void build_leaves();
     void build_parents();
-    // Appends the kernels that survive pruning at `prune_lambda_um` (H from H(x_c)).
+    // Appends the kernels that survive pruning at `prune_lambda_um`, heights relative to H(x_c).
     void collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
                  GaborQueryStatistics* statistics) const;
 
