@@ -122,8 +122,10 @@ LobeOutputOptions output_options(const LobeSettings& settings) {
 }
 
 void run(const LobeSettings& settings) {
+    lobe_method_description(settings.method);  // an unknown method fails before any work
     const LobeOutputOptions options = output_options(settings);
     const LobeQuery query = build_query(settings);
+    validate(query);
     warn_if_undersampled(query);
     const LobeImage lobe = compute_lobe(settings.method, query);
     write_lobe_exr(lobe, settings.output, options);

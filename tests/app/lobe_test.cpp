@@ -1,0 +1,114 @@
+// The lobe command as a user drives it: a flat mirror's albedo through the whole pipeline,
+// the metadata that makes an output reproducible, and clean failures on bad input.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "cli_runner.hpp"
+#include "glintscope/heightfield_io.hpp"
+
+namespace glintscope {
+namespace {
+
+using testing::run_cli;
+using testing::TemporaryDirectory;
+
+std::string write_flat_field(const TemporaryDirectory& directory, float fill = 0.0f) {
+    Heightfield field = make_heightfield(128, 128, 1.0, 0.0f);
+    field.heights_um[1000] = fill;
+    const std::string path = directory.file("flat.exr");
+    save_heightfield(path, field);
+    return path;
+}
+
+// "lambda 0.5 um: peak ... albedo A" → A
+double printed_albedo(const std::string& output) {
+    const auto at = output.find("albedo ");
+    if (at == std::string::npos) return NAN;
+    return std::stod(output.substr(at + 7));
+}
+
+TEST(LobeCommand, FlatMirrorAlbedoIsOneByBothMethods) {
+    TemporaryDirectory directory;
+    const std::string field = write_flat_field(directory);
+    for (const std::string method : {"fft", "gabor"}) {
+        const std::string exr = directory.file(method + ".exr");
+        const auto result = run_cli({"lobe", field, "--method", method, "--sigma-c", "5um", "--lambda", "500nm",
+                                     "--incident", "30,45", "--res", "128", "--supersample", "2", "-o", exr});
+        ASSERT_EQ(result.exit_code, 0) << result.output;
+        // Gabor's kernels blur the footprint: albedo σ_c²/(σ_c² + σ_k²) = 0.9975 at 2 kernels per texel.
+        EXPECT_NEAR(printed_albedo(result.output), 1.0, 5e-3) << method << ": " << result.output;
+
+        auto input = OIIO::ImageInput::open(exr);
+        ASSERT_TRUE(input);
+        const OIIO::ImageSpec& spec = input->spec();
+        ASSERT_EQ(spec.nchannels, 1);
+        EXPECT_EQ(spec.channelnames[0], "Y");
+        EXPECT_EQ(spec.get_string_attribute("glintscope:method"), method);
+        EXPECT_EQ(spec.get_string_attribute("glintscope:query.model"), "rohs");
+        EXPECT_EQ(spec.get_string_attribute("glintscope:query.wavelengths_um"), "0.5");
+        EXPECT_NEAR(std::stod(spec.get_string_attribute("glintscope:query.theta_i_deg")), 30.0, 1e-9);
+        EXPECT_NEAR(std::stod(spec.get_string_attribute("glintscope:query.phi_i_deg")), 45.0, 1e-9);
+    }
+}
+
+TEST(LobeCommand, WarnsWhenTheCoherenceBlurIsSmallerThanAPixel) {
+    TemporaryDirectory directory;
+    const std::string field = write_flat_field(directory);
+    // λ/(2πσ_c) = 0.5/(2π·10) ≈ 0.008 against a pixel of 2/64 ≈ 0.031.
+    const auto coarse = run_cli({"lobe", field, "--method", "fft", "--res", "64", "-o", directory.file("a.exr")});
+    ASSERT_EQ(coarse.exit_code, 0) << coarse.output;
+    EXPECT_NE(coarse.output.find("warning: the coherence blur"), std::string::npos);
+    const auto resolved = run_cli({"lobe", field, "--method", "fft", "--res", "64", "--sigma-c", "1um", "-o",
+                                   directory.file("b.exr")});
+    ASSERT_EQ(resolved.exit_code, 0) << resolved.output;
+    EXPECT_EQ(resolved.output.find("warning"), std::string::npos);
+}
+
+struct BadRequest {
+    std::vector<std::string> arguments;
+    std::string message;
+};
+
+TEST(LobeCommand, BadInputFailsInOneLineAndWritesNothing) {
+    TemporaryDirectory directory;
+    const std::string field = write_flat_field(directory);
+    const std::string holes = directory.file("holes.exr");
+    {
+        Heightfield with_nan = make_heightfield(16, 16, 1.0, 0.0f);
+        with_nan.heights_um[5] = NAN;
+        save_heightfield(holes, with_nan);
+    }
+    const std::string out = directory.file("out.exr");
+    const std::vector<BadRequest> requests = {
+        {{"lobe", directory.file("missing.exr"), "-o", out}, "missing.exr"},
+        {{"lobe", holes, "-o", out}, "missing (NaN)"},
+        {{"lobe", field, "--method", "raytrace", "-o", out}, "unknown lobe method 'raytrace'"},
+        {{"lobe", field, "--res", "0", "-o", out}, "lobe resolution must be between 4 and 8192"},
+        {{"lobe", field, "--sigma-c", "-1um", "-o", out}, "coherence sigma"},
+        {{"lobe", field, "--incident", "95,0", "-o", out}, "theta must be in [0, 90)"},
+        {{"lobe", field, "--lambda", "0", "-o", out}, "wavelength 0 um is outside"},
+        {{"lobe", field, "--model", "mie", "-o", out}, "unknown diffraction model 'mie'"},
+        {{"lobe", field, "--material", "Unobtainium", "-o", out}, "Unobtainium"},
+        {{"lobe", field, "--method", "fft", "--option", "step=-1um", "-o", out}, "step"},
+        {{"lobe", field, "--method", "gabor", "--option", "colour=blue", "-o", out}, "has no option 'colour'"},
+        {{"lobe", field, "-o", directory.file("no/such/dir/out.exr")}, "does not exist"},
+    };
+    for (const BadRequest& request : requests) {
+        const int before = testing::count_entries(directory.path());
+        const auto result = run_cli(request.arguments);
+        EXPECT_NE(result.exit_code, 0) << request.message;
+        EXPECT_NE(result.output.find(request.message), std::string::npos) << result.output;
+        EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+        EXPECT_EQ(testing::count_entries(directory.path()), before) << request.message;
+    }
+}
+
+}  // namespace
+}  // namespace glintscope
