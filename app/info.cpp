@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "glintscope/heightfield_io.hpp"
 #include "glintscope/statistics.hpp"
+#include "glintscope/text_format.hpp"
 #include "glintscope/units.hpp"
 #include "options.hpp"
 
@@ -18,31 +19,6 @@ struct InfoSettings {
     bool json = false;
     LoadOptions load;
 };
-
-std::string json_string(const std::string& text) {
-    std::string quoted = "\"";
-    for (unsigned char ch : text) {
-        if (ch == '"' || ch == '\\') {
-            quoted += '\\';
-            quoted += static_cast<char>(ch);
-        } else if (ch < 0x20) {
-            char escaped[8];
-            std::snprintf(escaped, sizeof escaped, "\\u%04x", ch);
-            quoted += escaped;
-        } else {
-            quoted += static_cast<char>(ch);
-        }
-    }
-    return quoted + "\"";
-}
-
-// Enough digits to read back the same double; JSON has no NaN or infinity.
-std::string json_number(double value) {
-    if (!std::isfinite(value)) return "null";
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.17g", value);
-    return buffer;
-}
 
 void print_json(const std::string& input, const Heightfield& field, const SurfaceStatistics& s) {
     std::string out = "{\n";

@@ -69,6 +69,7 @@ void BM_GaborPointQuery(benchmark::State& state) {
     std::vector<GaborPointQuery> queries(4096);
     for (GaborPointQuery& query : queries) {
         query.footprint.centre_um = {(state.range(1) ? 16.0 : 1024.0) * uniform(random), (state.range(1) ? 16.0 : 1024.0) * uniform(random)};
+        if (state.range(1) == 2) query.footprint.centre_um = {500.5, 500.5};
         query.omega_i = isotropic_query().omega_i;
         const double r = std::sqrt(uniform(random));
         const double phi = 2.0 * std::numbers::pi * uniform(random);
@@ -86,7 +87,7 @@ void BM_GaborPointQuery(benchmark::State& state) {
     state.counters["per_omega_lambda"] = benchmark::Counter(
         double(state.iterations()) * wavelengths.size(), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_GaborPointQuery)->Args({1,0})->Args({1,1})->Args({16,0})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GaborPointQuery)->Args({1,0})->Args({1,1})->Args({1,2})->Args({16,0})->Unit(benchmark::kMicrosecond);
 
 // The pruning hierarchy of an 8192² field (Yan 2018 §5: 8K × 8K maps at 1 µm), K = 1.
 void BM_GaborSurfaceBuild8192(benchmark::State& state) {

@@ -70,7 +70,7 @@ class KernelArrays {
 public:
     std::size_t size() const { return size_; }
     void clear() { size_ = 0; }
-    // Makes room for `count` more push() or push_if() calls.
+    // Makes room for `count` more push() calls.
     void reserve_more(std::size_t count) {
         if (size_ + count <= px.size()) return;
         const std::size_t capacity = std::max(2 * px.size(), size_ + count);
@@ -91,18 +91,16 @@ public:
         weight[to] = source.weight[from];
     }
     void push(double x, double y, const SurfacePoint& at_centre, double reference_height, double w) {
-        push_if(true, x, y, at_centre, reference_height, w);
+        push(x, y, at_centre.height - reference_height, at_centre.dh_dx, at_centre.dh_dy, w);
     }
-    // Writes the kernel after the last one but keeps it only if `keep`: no branch to mispredict
-    // when survivors are scattered at random.
-    void push_if(bool keep, double x, double y, const SurfacePoint& at_centre, double reference_height, double w) {
+    void push(double x, double y, double relative_height, double dh_dx, double dh_dy, double w) {
         px[size_] = x;
         py[size_] = y;
-        height[size_] = at_centre.height - reference_height;
-        slope_x[size_] = at_centre.dh_dx;
-        slope_y[size_] = at_centre.dh_dy;
+        height[size_] = relative_height;
+        slope_x[size_] = dh_dx;
+        slope_y[size_] = dh_dy;
         weight[size_] = w;
-        size_ += keep;
+        ++size_;
     }
 
     std::vector<double> px;

@@ -21,6 +21,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "formats.hpp"
+#include "glintscope/text_format.hpp"
 
 namespace glintscope {
 namespace {
@@ -130,11 +131,6 @@ void read_pixels(OIIO::ImageInput& input, int channel, const HeightConversion& c
     }
 }
 
-std::string shortest_text(double value) {
-    char buffer[32];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    return std::string(buffer, result.ptr);
-}
 
 }  // namespace
 

@@ -185,6 +185,32 @@ void BicubicInterpolant::evaluate_samples(long long c0, long long j0, int nx, in
     }
 }
 
+void BicubicInterpolant::evaluate_samples(const int* columns, const int* rows, std::size_t count,
+                                          SurfacePoint* out) const {
+    // The weights of evaluate_samples(c0, j0, …) above, with the neighbours wrapped by compares.
+    // Scattered samples miss the cache: each point asks for those of a later one ahead of time.
+    constexpr std::size_t kAhead = 48;
+    const double inverse_texel = 1.0 / texel_um_;
+    for (std::size_t k = 0; k < count; ++k) {
+        if (k + kAhead < count) {
+            const int ahead = rows[k + kAhead];
+            const float* row = &grid_[static_cast<std::size_t>(ahead) * cols_ + columns[k + kAhead]];
+            __builtin_prefetch(row);
+            __builtin_prefetch(ahead == 0 ? row + (rows_ - 1) * static_cast<std::size_t>(cols_) : row - cols_);
+            __builtin_prefetch(ahead + 1 == rows_ ? row - (rows_ - 1) * static_cast<std::size_t>(cols_) : row + cols_);
+        }
+        const int c = columns[k];
+        const int j = rows[k];
+        const float* row = &grid_[static_cast<std::size_t>(j) * cols_];
+        const float* below = &grid_[static_cast<std::size_t>(j == 0 ? rows_ - 1 : j - 1) * cols_];
+        const float* above = &grid_[static_cast<std::size_t>(j + 1 == rows_ ? 0 : j + 1) * cols_];
+        const int left = c == 0 ? cols_ - 1 : c - 1;
+        const int right = c + 1 == cols_ ? 0 : c + 1;
+        out[k] = {row[c], (-0.5 * row[left] + 0.5 * row[right]) * inverse_texel,
+                  (-0.5 * below[c] + 0.5 * above[c]) * inverse_texel};
+    }
+}
+
 double BicubicInterpolant::height(double x_um, double y_um) const { return evaluate(x_um, y_um).height; }
 
 }  // namespace glintscope

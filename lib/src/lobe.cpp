@@ -6,21 +6,19 @@
 #include <numbers>
 
 #include "glintscope/error.hpp"
+#include "glintscope/text_format.hpp"
 #include "glintscope/units.hpp"
 #include "lobe_methods.hpp"
 
 namespace glintscope {
 namespace {
 
-std::string format_number(double value) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.17g", value);
-    return buffer;
-}
-
 std::string format_list(const std::vector<double>& values) {
     std::string text;
-    for (std::size_t i = 0; i < values.size(); ++i) text += (i ? "," : "") + format_number(values[i]);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        if (i > 0) text += ',';
+        text += shortest_text(values[i]);
+    }
     return text;
 }
 
@@ -58,14 +56,14 @@ void validate(const LobeQuery& query) {
     if (query.wavelengths_um.empty()) throw Error("lobe query has no wavelength");
     for (double lambda : query.wavelengths_um)
         if (!(lambda >= 0.1 && lambda <= 20.0))
-            throw Error("wavelength " + format_number(lambda) + " um is outside 0.1-20 um");
+            throw Error("wavelength " + shortest_text(lambda) + " um is outside 0.1-20 um");
     const Footprint& footprint = query.footprint;
     if (!std::isfinite(footprint.centre_um.x) || !std::isfinite(footprint.centre_um.y))
         throw Error("footprint centre must be finite");
     if (footprint.shape == FootprintShape::gaussian && !(footprint.sigma_um > 0.0 && footprint.sigma_um <= 1e4))
-        throw Error("coherence sigma must be between 0 and 10 mm, got " + format_number(footprint.sigma_um) + " um");
+        throw Error("coherence sigma must be between 0 and 10 mm, got " + shortest_text(footprint.sigma_um) + " um");
     if (footprint.shape == FootprintShape::box && !(footprint.size_um > 0.0 && footprint.size_um <= 1e5))
-        throw Error("box footprint size must be between 0 and 100 mm, got " + format_number(footprint.size_um) +
+        throw Error("box footprint size must be between 0 and 100 mm, got " + shortest_text(footprint.size_um) +
                     " um");
     if (query.resolution < 4 || query.resolution > 8192)
         throw Error("lobe resolution must be between 4 and 8192, got " + std::to_string(query.resolution));
@@ -79,19 +77,19 @@ Provenance describe(const LobeQuery& query) {
         for (const auto& [key, value] : query.field->provenance) text["heightfield." + key] = value;
     if (query.field) {
         text["heightfield.size"] = std::to_string(query.field->cols) + "x" + std::to_string(query.field->rows);
-        text["heightfield.texel_um"] = format_number(query.field->texel_um);
+        text["heightfield.texel_um"] = shortest_text(query.field->texel_um);
     }
     const Footprint& footprint = query.footprint;
     text["query.footprint.shape"] = footprint.shape == FootprintShape::gaussian ? "gaussian" : "box";
-    text["query.footprint.centre_um"] = format_number(footprint.centre_um.x) + "," + format_number(footprint.centre_um.y);
+    text["query.footprint.centre_um"] = shortest_text(footprint.centre_um.x) + "," + shortest_text(footprint.centre_um.y);
     if (footprint.shape == FootprintShape::gaussian)
-        text["query.footprint.sigma_um"] = format_number(footprint.sigma_um);
+        text["query.footprint.sigma_um"] = shortest_text(footprint.sigma_um);
     else
-        text["query.footprint.size_um"] = format_number(footprint.size_um);
+        text["query.footprint.size_um"] = shortest_text(footprint.size_um);
     const Vec3 wi = query.omega_i;
-    text["query.omega_i"] = format_number(wi.x) + "," + format_number(wi.y) + "," + format_number(wi.z);
-    text["query.theta_i_deg"] = format_number(std::acos(std::fmin(1.0, wi.z)) * 180.0 / std::numbers::pi);
-    text["query.phi_i_deg"] = format_number(std::atan2(wi.y, wi.x) * 180.0 / std::numbers::pi);
+    text["query.omega_i"] = shortest_text(wi.x) + "," + shortest_text(wi.y) + "," + shortest_text(wi.z);
+    text["query.theta_i_deg"] = shortest_text(std::acos(std::fmin(1.0, wi.z)) * 180.0 / std::numbers::pi);
+    text["query.phi_i_deg"] = shortest_text(std::atan2(wi.y, wi.x) * 180.0 / std::numbers::pi);
     text["query.wavelengths_um"] = format_list(query.wavelengths_um);
     text["query.model"] = to_string(query.model);
     text["query.material"] = query.material.name.empty() ? "none (F = 1)" : query.material.name;

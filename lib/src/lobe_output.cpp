@@ -14,6 +14,7 @@
 #include "glintscope/atomic_output.hpp"
 #include "glintscope/colormap.hpp"
 #include "glintscope/error.hpp"
+#include "glintscope/text_format.hpp"
 
 namespace glintscope {
 namespace {
@@ -29,11 +30,6 @@ std::string one_line(std::string text) {
 }
 
 // Shortest decimal text that reads back as the same double.
-std::string shortest_text(double value) {
-    char buffer[32];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    return std::string(buffer, result.ptr);
-}
 
 std::string shortest_list(const std::vector<double>& values) {
     std::string text;
@@ -98,30 +94,6 @@ void write_image(const std::string& path, const OIIO::ImageSpec& spec, const voi
 void add_attributes(OIIO::ImageSpec& spec, const Provenance& entries) {
     for (const auto& [key, value] : entries) spec.attribute(std::string(attribute_prefix) + key, value);
 }
-
-std::string json_string(const std::string& text) {
-    std::string quoted = "\"";
-    for (const char ch : text) {
-        switch (ch) {
-            case '"': quoted += "\\\""; break;
-            case '\\': quoted += "\\\\"; break;
-            case '\n': quoted += "\\n"; break;
-            case '\r': quoted += "\\r"; break;
-            case '\t': quoted += "\\t"; break;
-            default:
-                if (static_cast<unsigned char>(ch) < 0x20) {
-                    char escape[8];
-                    std::snprintf(escape, sizeof escape, "\\u%04x", ch);
-                    quoted += escape;
-                } else {
-                    quoted += ch;
-                }
-        }
-    }
-    return quoted + "\"";
-}
-
-std::string json_number(double value) { return std::isfinite(value) ? shortest_text(value) : "null"; }
 
 std::string json_numbers(const std::vector<double>& values) {
     std::string text = "[";

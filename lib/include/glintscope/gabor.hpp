@@ -102,10 +102,12 @@ struct GaborQueryStatistics {
 };
 
 // A heightfield prepared for point queries: a mip-style quadtree over the kernel grid whose
-// nodes hold the range of H' over their kernels (Yan 2018 §5). A query visits the nodes that
-// overlap the footprint and whose directional box ξ3 H'/λ ± kernel_sigmas/(2πσ_k) can reach
-// −ψ̄/λ, interpolates H and H' at the surviving kernels and sums their transforms. Pruning drops
-// only kernels whose truncated transform is zero at the query, so it does not change f_r.
+// nodes hold the range of H' over their kernels (Yan 2018 §5), and whose leaves also hold each
+// kernel's H' quantised to 8 bits per axis within the leaf's range. A query visits the nodes
+// that overlap the footprint and whose directional box ξ3 H'/λ ± kernel_sigmas/(2πσ_k) can reach
+// −ψ̄/λ, tests each kernel of the surviving leaves on its quantised H', interpolates H and H' at
+// the kernels that pass and sums their transforms. Pruning drops only kernels whose truncated
+// transform is zero at the query, so it does not change f_r.
 // The structure is immutable after construction; queries may run concurrently.
 class GaborSurface {
 public:
@@ -134,6 +136,12 @@ private:
         int ny = 0;
         std::vector<SlopeBox> boxes;  // row-major, y-up like the kernel grid
     };
+    // Per leaf, the codes of its kernels' ∂H/∂x then those of ∂H/∂y, kernel (i, j) of the leaf at
+    // j·kLeafKernels + i: code = ⌊(H' − min) · 255/(max − min)⌋ over the leaf's box.
+    struct LeafCodes {
+        unsigned char x[64];
+        unsigned char y[64];
+    };
 
     void build_leaves();
     void build_parents();
@@ -146,6 +154,7 @@ private:
     int kernels_x_ = 0;  // kernel grid of one tile of the periodic surface
     int kernels_y_ = 0;
     std::vector<Level> levels_;  // levels_[0]: leaves of kLeafKernels² kernels; back(): the root
+    std::vector<LeafCodes> leaf_codes_;  // parallel to levels_[0].boxes
 };
 
 }  // namespace glintscope

@@ -30,6 +30,9 @@ public:
     // differences: sample columns c0 … c0 + nx − 1 and y-up rows j0 … j0 + ny − 1 (sample (c, j)
     // at ((c + ½)dx, (j + ½)dx), indices wrapped periodically), into out[j·nx + i].
     void evaluate_samples(long long c0, long long j0, int nx, int ny, SurfacePoint* out) const;
+    // The same at scattered samples (columns[k], rows[k]), 0 ≤ column < cols(), 0 ≤ row < rows()
+    // (y-up), into out[k].
+    void evaluate_samples(const int* columns, const int* rows, std::size_t count, SurfacePoint* out) const;
 
     double texel_um() const { return texel_um_; }
     int rows() const { return rows_; }
