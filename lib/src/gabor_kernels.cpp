@@ -126,33 +126,6 @@ void CoherenceWindow::check_kernel_count(const KernelGrid& grid) const {
     }
 }
 
-bool CoherenceWindow::row_span(const KernelGrid& grid, double centre_x, double py, long long lo, long long hi,
-                               long long& first, long long& last) const {
-    const double reach2 = box_ ? (std::fabs(py) <= half_extent_um_ ? half_extent_um_ * half_extent_um_ : -1.0)
-                               : radius_squared_ - py * py;
-    if (reach2 < 0.0) return false;
-    // The support's chord at p_y, in kernel indices, then confirmed with contains() at its ends.
-    const double half = std::sqrt(reach2);
-    const double from = std::ceil((centre_x - half) / grid.spacing_um - 0.5);
-    const double to = std::floor((centre_x + half) / grid.spacing_um - 0.5);
-    first = static_cast<long long>(std::clamp(from, double(lo), double(hi) + 1.0));
-    last = static_cast<long long>(std::clamp(to, double(lo) - 1.0, double(hi)));
-    while (first > lo && contains(grid.centre(first - 1) - centre_x, py)) --first;
-    while (first <= last && !contains(grid.centre(first) - centre_x, py)) ++first;
-    while (last < hi && last >= first && contains(grid.centre(last + 1) - centre_x, py)) ++last;
-    while (last >= first && !contains(grid.centre(last) - centre_x, py)) --last;
-    return first <= last;
-}
-
-bool CoherenceWindow::overlaps(double x_min, double x_max, double y_min, double y_max) const {
-    if (box_)
-        return x_max >= -half_extent_um_ && x_min <= half_extent_um_ && y_max >= -half_extent_um_ &&
-               y_min <= half_extent_um_;
-    const double dx = std::max({x_min, -x_max, 0.0});  // distance from the origin to the rectangle
-    const double dy = std::max({y_min, -y_max, 0.0});
-    return dx * dx + dy * dy <= radius_squared_;
-}
-
 FresnelAtWavelength::FresnelAtWavelength(const MaterialChoice& material, double lambda_um)
     : none_(material.name.empty()) {
     if (!none_) eta_ = complex_refractive_index(material.name, lambda_um);

@@ -1,5 +1,6 @@
 // Point queries of the Gabor lobe with the pruning hierarchy of Yan 2018 §5.
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -42,6 +43,15 @@ void include(GaborSurface::SlopeBox& box, const GaborSurface::SlopeBox& other) {
     box.y_min = std::min(box.y_min, other.y_min);
     box.y_max = std::max(box.y_max, other.y_max);
 }
+
+// For each byte, the positions of its set bits, lowest first (the rest 0).
+constexpr std::array<std::array<std::uint8_t, 8>, 256> kSetBitPositions = [] {
+    std::array<std::array<std::uint8_t, 8>, 256> table{};
+    for (int value = 0; value < 256; ++value)
+        for (int bit = 0, count = 0; bit < 8; ++bit)
+            if (value >> bit & 1) table[value][count++] = static_cast<std::uint8_t>(bit);
+    return table;
+}();
 
 // 8-bit codes of slopes within a leaf's range [lo, hi]: code(h) = ⌊(h − lo)·255/(hi − lo)⌋. A
 // slope interval [a, b] maps to the codes [⌊·⌋ − 1, ⌈·⌉ + 1], so rounding in either mapping
@@ -128,12 +138,17 @@ private:
         factors.resize(last - first + 1);
         // Along a row of kernel centres p_i = p_0 + i l the Gaussian factor obeys w_{i+1} = w_i r_i,
         // r_{i+1} = r_i q with q = w(l)²: three exps instead of one per kernel, and relative
-        // errors that grow only by an ulp or so per step (1 for a box window).
+        // errors that grow only by an ulp or so per step (1 for a box window). A footprint far
+        // narrower than l underflows the recurrence and takes the exps.
         const double p0 = grid.centre(first) - centre;
         double w = window.weight(p0, 0.0);
-        double ratio = window.weight(p0 + grid.spacing_um, 0.0) / w;
         const double step = window.weight(grid.spacing_um, 0.0);
         const double ratio_step = step * step;
+        if (!(w > 1e-150 && ratio_step > 1e-150)) {
+            for (long long i = first; i <= last; ++i) factors[i - first] = window.weight(grid.centre(i) - centre, 0.0);
+            return;
+        }
+        double ratio = window.weight(p0 + grid.spacing_um, 0.0) / w;
         for (double& factor : factors) {
             factor = w;
             w *= ratio;
@@ -267,8 +282,8 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
     thread_local std::vector<SurfacePoint> points;  // and H, H' there
     thread_local std::vector<SurfacePoint> block;
     thread_local std::vector<std::uint64_t> band_bits;  // per leaf of a leaf row: kernels that may reach
-    std::size_t survivors = 0;  // of columns, rows and points in use
     thread_local SeparableWeights weights;
+    std::size_t survivors = 0;  // entries of columns, rows and points in use
     GaborQueryStatistics counts;
 
     // Yan 2018 §5: top-down through the hierarchy, dropping nodes outside the footprint or whose
@@ -324,6 +339,7 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
         const int ny = std::min(kLeafKernels, kernels_y_ - j0);
         block.resize(static_cast<std::size_t>(kLeafKernels) * kLeafKernels);
         gabor::evaluate_kernels(*surface_, grid, i0, j0, nx, ny, block.data());
+        counts.kernels_evaluated += static_cast<std::size_t>(nx) * ny;
         for (; bits != 0; bits &= bits - 1, ++survivors) {
             const int k = std::countr_zero(bits);
             columns[survivors] = i0 + k % kLeafKernels;
@@ -343,8 +359,10 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
         long long first[kLeafKernels];
         long long last[kLeafKernels];
         for (int j = j0; j < j1; ++j)
-            if (!window.row_span(grid, cx, grid.centre(j) - cy, i0, i1 - 1, first[j - j0], last[j - j0]))
-                first[j - j0] = i1, last[j - j0] = i1 - 1;
+            if (!window.row_span(grid, cx, grid.centre(j) - cy, i0, i1 - 1, first[j - j0], last[j - j0])) {
+                first[j - j0] = i1;
+                last[j - j0] = i1 - 1;
+            }
         const Level& leaves_level = levels_.front();
         band_bits.resize(end - begin);
         for (const std::pair<int, int>* leaf = begin; leaf != end; ++leaf) {
@@ -369,15 +387,19 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
             return;
         }
         // Samples, gathered later: listed row by row across the leaves, so that consecutive
-        // samples share cache lines.
+        // samples share cache lines. Each byte of bits is unpacked through a table, without a
+        // branch on the number of bits set (8 slots are written, popcount of them kept).
         for (int j = j0; j < j1; ++j)
             for (const std::pair<int, int>* leaf = begin; leaf != end; ++leaf) {
                 const int i0_leaf = leaf->second * kLeafKernels;
-                auto row_bits = static_cast<unsigned>((band_bits[leaf - begin] >> ((j - j0) * kLeafKernels)) & 0xFF);
-                for (; row_bits != 0; row_bits &= row_bits - 1, ++survivors) {
-                    columns[survivors] = i0_leaf + std::countr_zero(row_bits);
-                    rows[survivors] = j;
+                const std::uint64_t bits = band_bits[leaf - begin] >> ((j - j0) * kLeafKernels);
+                const auto row_bits = static_cast<unsigned>(bits & 0xFF);
+                const std::array<std::uint8_t, 8>& positions = kSetBitPositions[row_bits];
+                for (int k = 0; k < 8; ++k) {
+                    columns[survivors + k] = i0_leaf + positions[k];
+                    rows[survivors + k] = j;
                 }
+                survivors += std::popcount(row_bits);
             }
     };
 
@@ -393,7 +415,7 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
             leaves.clear();
             find_leaves(cx, cy);
             // The buffers only grow, so a thread's queries stop allocating after the first few.
-            const std::size_t most = leaves.size() * kLeafKernels * kLeafKernels;
+            const std::size_t most = leaves.size() * kLeafKernels * kLeafKernels + 8;  // + 8: unpacking slack
             if (columns.size() < most) {
                 columns.resize(most);
                 rows.resize(most);
@@ -407,9 +429,10 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
                 add_leaf_row(cx, cy, leaves.data() + begin, leaves.data() + end);
                 begin = end;
             }
-            if (grid.kernels_per_texel == 1)
+            if (grid.kernels_per_texel == 1) {
                 surface_->evaluate_samples(columns.data(), rows.data(), survivors, points.data());
-            counts.kernels_evaluated += survivors;
+                counts.kernels_evaluated += survivors;
+            }
             kernels.reserve_more(survivors);
             for (std::size_t k = 0; k < survivors; ++k)
                 kernels.push(grid.centre(columns[k]) - cx, grid.centre(rows[k]) - cy, points[k], reference_height,

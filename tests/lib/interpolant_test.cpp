@@ -122,6 +122,29 @@ TEST(BicubicInterpolant, GridAndSampleEvaluationsMatchPointwise) {
         }
 }
 
+// Scattered samples, on the seams too, take exactly the block evaluation's values.
+TEST(BicubicInterpolant, ScatteredSampleEvaluationMatchesBlock) {
+    const BicubicInterpolant surface(sampled(40));
+    std::vector<SurfacePoint> block(40 * 40);
+    surface.evaluate_samples(0, 0, 40, 40, block.data());
+    std::vector<int> columns;
+    std::vector<int> rows;
+    for (int k = 0; k < 200; ++k) {
+        columns.push_back((k * 7) % 40);
+        rows.push_back((k * 13 + k / 40) % 40);
+    }
+    columns[0] = 0, rows[0] = 39;
+    columns[1] = 39, rows[1] = 0;
+    std::vector<SurfacePoint> scattered(columns.size());
+    surface.evaluate_samples(columns.data(), rows.data(), columns.size(), scattered.data());
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+        const SurfacePoint& expected = block[rows[k] * 40 + columns[k]];
+        EXPECT_EQ(scattered[k].height, expected.height);
+        EXPECT_EQ(scattered[k].dh_dx, expected.dh_dx);
+        EXPECT_EQ(scattered[k].dh_dy, expected.dh_dy);
+    }
+}
+
 TEST(BicubicInterpolant, RefusesMissingPoints) {
     Heightfield field = make_heightfield(4, 4, 1.0);
     field.at(1, 2) = std::nanf("");

@@ -137,7 +137,7 @@ private:
         std::vector<SlopeBox> boxes;  // row-major, y-up like the kernel grid
     };
     // Per leaf, the codes of its kernels' ∂H/∂x then those of ∂H/∂y, kernel (i, j) of the leaf at
-    // j·kLeafKernels + i: code = ⌊(H' − min) · 255/(max − min)⌋ over the leaf's box.
+    // j·kLeafKernels + i: code = ⌊(H' − min) · 255/max(max − min, 1e-6)⌋ over the leaf's box.
     struct LeafCodes {
         unsigned char x[64];
         unsigned char y[64];
