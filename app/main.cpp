@@ -1,6 +1,7 @@
 // glintscope: how a surface's microgeometry reflects light.
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -9,9 +10,13 @@
 #include "glintscope/parallel.hpp"
 
 int main(int argc, char** argv) {
-    CLI::App app{"glintscope: heightfields, wave-optics and geometric-optics reflection lobes.\n"
+    CLI::App app{"glintscope: heightfields and their wave-optics reflection lobes.\n"
                  "Lengths are micrometres unless suffixed (0.5um, 500nm, 2mm); angles are degrees."};
     app.require_subcommand(1);
+    // Usage errors are one line like every other error; exit status 2 marks them.
+    app.failure_message([](const CLI::App*, const CLI::Error& e) {
+        return std::string("glintscope: error: ") + e.what() + " (see --help)\n";
+    });
     app.set_version_flag("--version", "glintscope 0.1.0");
     app.add_option_function<int>("--threads", [](int threads) { glintscope::set_thread_count(threads); },
                                  "Worker threads (default: all cores; results do not depend on it)")
@@ -27,7 +32,7 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        return app.exit(e) == 0 ? 0 : 2;
     } catch (const glintscope::Error& e) {
         std::fprintf(stderr, "glintscope: error: %s\n", e.what());
         return 1;

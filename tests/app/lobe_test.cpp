@@ -92,6 +92,8 @@ TEST(LobeCommand, BadInputFailsInOneLineAndWritesNothing) {
         {{"lobe", field, "--method", "raytrace", "-o", out}, "unknown lobe method 'raytrace'"},
         {{"lobe", field, "--res", "0", "-o", out}, "lobe resolution must be between 4 and 8192"},
         {{"lobe", field, "--sigma-c", "-1um", "-o", out}, "coherence sigma"},
+        {{"lobe", field, "--sigma-c", "ten", "-o", out}, "'ten' is not a length"},
+        {{"lobe", field, "--res", "many", "-o", out}, "--res"},
         {{"lobe", field, "--incident", "95,0", "-o", out}, "theta must be in [0, 90)"},
         {{"lobe", field, "--lambda", "0", "-o", out}, "wavelength 0 um is outside"},
         {{"lobe", field, "--model", "mie", "-o", out}, "unknown diffraction model 'mie'"},
