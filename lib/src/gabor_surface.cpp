@@ -21,16 +21,6 @@ namespace {
 // the bounds of an 8192² field at K = 1 take 16 MB.
 constexpr int kLeafKernels = 8;
 static_assert(kLeafKernels * kLeafKernels == 64, "leaf kernels are bits of a 64-bit mask");
-// A leaf's samples with their neighbours (K = 1): kLeafSamples² floats per leaf, 400 bytes.
-constexpr int kLeafSamples = kLeafKernels + 2;
-constexpr std::size_t kLeafBlock = static_cast<std::size_t>(kLeafSamples) * kLeafSamples;
-
-// H and H' at the sample `at` of a leaf's block: the sample and central differences, the same
-// operations as BicubicInterpolant::evaluate_samples, so the values are bit-identical.
-SurfacePoint sample_point(const float* at, double inverse_texel) {
-    return {at[0], (-0.5 * at[-1] + 0.5 * at[1]) * inverse_texel,
-            (-0.5 * at[-kLeafSamples] + 0.5 * at[kLeafSamples]) * inverse_texel};
-}
 
 float round_down(double value) {
     const float f = static_cast<float>(value);
@@ -246,28 +236,7 @@ void GaborSurface::build_leaves() {
             }
         }
     });
-    if (settings_.kernels_per_texel == 1) build_leaf_samples(leaves.nx, leaves.ny);
     levels_.push_back(std::move(leaves));
-}
-
-void GaborSurface::build_leaf_samples(int leaves_x, int leaves_y) {
-    leaf_samples_.resize(static_cast<std::size_t>(leaves_x) * leaves_y * kLeafBlock);
-    // One row of leaves per chunk; the interpolant wraps the border samples periodically.
-    parallel_for(leaves_y, 1, [&](std::size_t begin, std::size_t end) {
-        const int width = leaves_x * kLeafKernels + 2;
-        std::vector<SurfacePoint> band(static_cast<std::size_t>(width) * kLeafSamples);
-        for (std::size_t leaf_row = begin; leaf_row < end; ++leaf_row) {
-            surface_->evaluate_samples(-1, static_cast<long long>(leaf_row) * kLeafKernels - 1, width, kLeafSamples,
-                                       band.data());
-            for (int leaf_col = 0; leaf_col < leaves_x; ++leaf_col) {
-                float* block = &leaf_samples_[(leaf_row * leaves_x + leaf_col) * kLeafBlock];
-                for (int j = 0; j < kLeafSamples; ++j)
-                    for (int i = 0; i < kLeafSamples; ++i)
-                        block[j * kLeafSamples + i] = static_cast<float>(
-                            band[static_cast<std::size_t>(j) * width + leaf_col * kLeafKernels + i].height);
-            }
-        }
-    });
 }
 
 void GaborSurface::build_parents() {
@@ -286,8 +255,7 @@ void GaborSurface::build_parents() {
 }
 
 std::size_t GaborSurface::memory_bytes() const {
-    std::size_t bytes = sizeof(*this) + leaf_codes_.capacity() * sizeof(LeafCodes) +
-                        leaf_samples_.capacity() * sizeof(float);
+    std::size_t bytes = sizeof(*this) + leaf_codes_.capacity() * sizeof(LeafCodes);
     for (const Level& level : levels_) bytes += level.boxes.capacity() * sizeof(SlopeBox);
     return bytes;
 }
@@ -311,13 +279,11 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
     thread_local std::vector<std::pair<int, int>> children;
     thread_local std::vector<int> columns;  // kernels that survive pruning, in one tile copy
     thread_local std::vector<int> rows;
-    thread_local std::vector<std::size_t> samples;  // K = 1: their samples in leaf_samples_
-    thread_local std::vector<SurfacePoint> points;  // K > 1: their H, H'
+    thread_local std::vector<SurfacePoint> points;  // and H, H' there
     thread_local std::vector<SurfacePoint> block;
     thread_local std::vector<std::uint64_t> band_bits;  // per leaf of a leaf row: kernels that may reach
     thread_local SeparableWeights weights;
-    std::size_t survivors = 0;  // entries of columns, rows and samples or points in use
-    const double inverse_texel = 1.0 / surface_->texel_um();
+    std::size_t survivors = 0;  // entries of columns, rows and points in use
     GaborQueryStatistics counts;
 
     // Yan 2018 §5: top-down through the hierarchy, dropping nodes outside the footprint or whose
@@ -347,9 +313,6 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
                     leaves.emplace_back(iy, ix);
                     __builtin_prefetch(&leaf_codes_[index]);
                     __builtin_prefetch(reinterpret_cast<const char*>(&leaf_codes_[index]) + 64);
-                    if (!leaf_samples_.empty())
-                        for (std::size_t line = 0; line < kLeafBlock * sizeof(float) + 64; line += 64)
-                            __builtin_prefetch(reinterpret_cast<const char*>(&leaf_samples_[index * kLeafBlock]) + line);
                     continue;
                 }
                 const Level& below = levels_[level_index - 1];
@@ -423,22 +386,18 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
                 if (band_bits[leaf - begin] != 0) add_interpolated(leaf->first, leaf->second, band_bits[leaf - begin]);
             return;
         }
-        // Samples, gathered later from the leaves' blocks: listed row by row across the leaves (the
-        // order of the sum). Each byte of bits is unpacked through a table, without a branch on the
-        // number of bits set (8 slots are written, popcount of them kept).
+        // Samples, gathered later: listed row by row across the leaves, so that consecutive
+        // samples share cache lines. Each byte of bits is unpacked through a table, without a
+        // branch on the number of bits set (8 slots are written, popcount of them kept).
         for (int j = j0; j < j1; ++j)
             for (const std::pair<int, int>* leaf = begin; leaf != end; ++leaf) {
                 const int i0_leaf = leaf->second * kLeafKernels;
-                const std::size_t row_start =
-                    (static_cast<std::size_t>(leaf->first) * leaves_level.nx + leaf->second) * kLeafBlock +
-                    static_cast<std::size_t>(j - j0 + 1) * kLeafSamples + 1;
                 const std::uint64_t bits = band_bits[leaf - begin] >> ((j - j0) * kLeafKernels);
                 const auto row_bits = static_cast<unsigned>(bits & 0xFF);
                 const std::array<std::uint8_t, 8>& positions = kSetBitPositions[row_bits];
                 for (int k = 0; k < 8; ++k) {
                     columns[survivors + k] = i0_leaf + positions[k];
                     rows[survivors + k] = j;
-                    samples[survivors + k] = row_start + positions[k];
                 }
                 survivors += std::popcount(row_bits);
             }
@@ -460,7 +419,6 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
             if (columns.size() < most) {
                 columns.resize(most);
                 rows.resize(most);
-                samples.resize(most);
                 points.resize(most);
             }
             survivors = 0;
@@ -471,18 +429,14 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
                 add_leaf_row(cx, cy, leaves.data() + begin, leaves.data() + end);
                 begin = end;
             }
-            kernels.reserve_more(survivors);
-            const auto push = [&](std::size_t k, const SurfacePoint& point) {
-                kernels.push(grid.centre(columns[k]) - cx, grid.centre(rows[k]) - cy, point, reference_height,
-                             weights.along_x(columns[k]) * weights.along_y(rows[k]) * weight_scale);
-            };
             if (grid.kernels_per_texel == 1) {
-                for (std::size_t k = 0; k < survivors; ++k)
-                    push(k, sample_point(&leaf_samples_[samples[k]], inverse_texel));
+                surface_->evaluate_samples(columns.data(), rows.data(), survivors, points.data());
                 counts.kernels_evaluated += survivors;
-            } else {
-                for (std::size_t k = 0; k < survivors; ++k) push(k, points[k]);
             }
+            kernels.reserve_more(survivors);
+            for (std::size_t k = 0; k < survivors; ++k)
+                kernels.push(grid.centre(columns[k]) - cx, grid.centre(rows[k]) - cy, points[k], reference_height,
+                             weights.along_x(columns[k]) * weights.along_y(rows[k]) * weight_scale);
         }
     if (statistics) {
         statistics->nodes_visited += counts.nodes_visited;

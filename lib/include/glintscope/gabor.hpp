@@ -144,7 +144,6 @@ private:
     };
 
     void build_leaves();
-    void build_leaf_samples(int leaves_x, int leaves_y);
     void build_parents();
     // Appends the kernels that survive pruning at `prune_lambda_um`, heights relative to H(x_c).
     void collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
@@ -156,10 +155,6 @@ private:
     int kernels_y_ = 0;
     std::vector<Level> levels_;  // levels_[0]: leaves of kLeafKernels² kernels; back(): the root
     std::vector<LeafCodes> leaf_codes_;  // parallel to levels_[0].boxes
-    // With K = 1 only, per leaf its kernels' samples with a one-sample border, kLeafSamples² floats
-    // row-major and y-up: what the interpolant's H and H' at those kernels read, copied so that a
-    // query reads a leaf from a few contiguous cache lines instead of scattered rows of the field.
-    std::vector<float> leaf_samples_;
 };
 
 }  // namespace glintscope
