@@ -25,7 +25,10 @@ std::string shell_quote(const std::string& text) {
 
 CliResult run_cli(const std::vector<std::string>& arguments) {
     std::string command = shell_quote(GLINTSCOPE_EXE);
-    for (const auto& argument : arguments) command += " " + shell_quote(argument);
+    for (const auto& argument : arguments) {
+        command += ' ';
+        command += shell_quote(argument);
+    }
     command += " 2>&1";
     CliResult result;
     FILE* pipe = ::popen(command.c_str(), "r");
