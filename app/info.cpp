@@ -1,5 +1,4 @@
 // glintscope info FILE [--json]: what a heightfield file holds, as read with the loading options.
-#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>

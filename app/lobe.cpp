@@ -10,7 +10,6 @@
 #include "glintscope/error.hpp"
 #include "glintscope/lobe.hpp"
 #include "glintscope/lobe_output.hpp"
-#include "glintscope/material.hpp"
 #include "glintscope/spectrum.hpp"
 #include "glintscope/units.hpp"
 #include "options.hpp"
@@ -77,7 +76,6 @@ LobeQuery build_query(const LobeSettings& settings) {
     query.wavelengths_um = settings.spectral_bins > 0 ? spectral_bin_centres_um(settings.spectral_bins)
                                                       : std::vector<double>{settings.lambda_um};
     query.model = parse_diffraction_model(settings.model);
-    if (!settings.material.empty()) fresnel_reflectance(settings.material, query.wavelengths_um.front(), 1.0);
     query.material.name = settings.material;
     query.resolution = settings.resolution;
     query.supersample = settings.supersample;

@@ -131,7 +131,6 @@ void read_pixels(OIIO::ImageInput& input, int channel, const HeightConversion& c
     }
 }
 
-
 }  // namespace
 
 Heightfield read_image(const std::string& path, const LoadOptions& options) {

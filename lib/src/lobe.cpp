@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "glintscope/error.hpp"
+#include "glintscope/material.hpp"
 #include "glintscope/text_format.hpp"
 #include "glintscope/units.hpp"
 #include "lobe_methods.hpp"
@@ -67,6 +68,9 @@ void validate(const LobeQuery& query) {
                     " um");
     if (query.resolution < 4 || query.resolution > 8192)
         throw Error("lobe resolution must be between 4 and 8192, got " + std::to_string(query.resolution));
+    // An unknown material, or a wavelength outside its table, fails here rather than mid-lobe.
+    if (!query.material.name.empty())
+        for (double lambda : query.wavelengths_um) complex_refractive_index(query.material.name, lambda);
     if (query.supersample < 1 || query.supersample > 16)
         throw Error("supersampling must be between 1 and 16, got " + std::to_string(query.supersample));
 }

@@ -29,8 +29,6 @@ std::string one_line(std::string text) {
     return text.empty() ? "unknown error" : text;
 }
 
-// Shortest decimal text that reads back as the same double.
-
 std::string shortest_list(const std::vector<double>& values) {
     std::string text;
     for (std::size_t i = 0; i < values.size(); ++i) {
