@@ -54,15 +54,17 @@ BENCHMARK(BM_GaborImage512SixteenWavelengthsDefaultDensity)
     ->UseRealTime()
     ->Iterations(1);
 
-// Point queries at random footprint centres and outgoing directions over the whole hemisphere,
-// one kernel per texel; state.range(0) wavelengths per query. "per_omega_lambda" is the mean
-// time per (ω_o, λ) pair.
+// Point queries at random footprint centres and outgoing directions over the whole hemisphere;
+// state.range(0) wavelengths per query, state.range(1) kernels per texel. "per_omega_lambda" is
+// the mean time per (ω_o, λ) pair.
 void BM_GaborPointQuery(benchmark::State& state) {
-    static const GaborSurface surface = [] {
+    static const GaborSurface one_per_texel = [] {
         GaborSettings settings;
         settings.kernels_per_texel = 1;
         return GaborSurface(isotropic_query().surface, settings);
     }();
+    static const GaborSurface default_density(isotropic_query().surface);
+    const GaborSurface& surface = state.range(1) == 1 ? one_per_texel : default_density;
     const std::vector<double> wavelengths = state.range(0) == 1 ? std::vector<double>{0.5} : visible_bins(16);
     std::mt19937 random(7);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -82,7 +84,7 @@ void BM_GaborPointQuery(benchmark::State& state) {
     state.counters["per_omega_lambda"] = benchmark::Counter(
         double(state.iterations()) * wavelengths.size(), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_GaborPointQuery)->Arg(1)->Arg(16)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GaborPointQuery)->Args({1, 1})->Args({16, 1})->Args({1, 2})->Args({16, 2})->Unit(benchmark::kMicrosecond);
 
 // The pruning hierarchy of an 8192² field (Yan 2018 §5: 8K × 8K maps at 1 µm), K = 1.
 void BM_GaborSurfaceBuild8192(benchmark::State& state) {

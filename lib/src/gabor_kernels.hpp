@@ -104,6 +104,13 @@ public:
         const std::size_t capacity = std::max(2 * px.size(), size_ + count);
         for (auto* array : {&px, &py, &height, &slope_x, &slope_y, &weight}) array->resize(capacity);
     }
+    // Appends `count` unset kernels, returning the index of the first, for callers that fill
+    // the arrays directly.
+    std::size_t extend(std::size_t count) {
+        reserve_more(count);
+        size_ += count;
+        return size_ - count;
+    }
     // Sets the size to `count` kernels (new ones unset), to be filled by copy().
     void resize(std::size_t count) {
         clear();

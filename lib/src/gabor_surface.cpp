@@ -4,7 +4,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <emmintrin.h>  // SSE2, part of x86-64: 16 slope codes per compare
+#include <cstring>
+#include <emmintrin.h>  // SSE2, part of x86-64: 16 slope codes per compare, 4 columns per add
 #include <limits>
 #include <string>
 #include <vector>
@@ -44,12 +45,17 @@ void include(GaborSurface::SlopeBox& box, const GaborSurface::SlopeBox& other) {
     box.y_max = std::max(box.y_max, other.y_max);
 }
 
-// For each byte, the positions of its set bits, lowest first (the rest 0).
-constexpr std::array<std::array<std::uint8_t, 8>, 256> kSetBitPositions = [] {
-    std::array<std::array<std::uint8_t, 8>, 256> table{};
+// For each byte, the positions of its set bits, lowest first (the rest 0), and their count: a
+// byte of survivors is unpacked with one table lookup, without a branch per bit.
+struct SetBits {
+    std::array<std::uint8_t, 8> positions;
+    int count;
+};
+constexpr std::array<SetBits, 256> kSetBits = [] {
+    std::array<SetBits, 256> table{};
     for (int value = 0; value < 256; ++value)
-        for (int bit = 0, count = 0; bit < 8; ++bit)
-            if (value >> bit & 1) table[value][count++] = static_cast<std::uint8_t>(bit);
+        for (int bit = 0; bit < 8; ++bit)
+            if (value >> bit & 1) table[value].positions[table[value].count++] = static_cast<std::uint8_t>(bit);
     return table;
 }();
 
@@ -95,6 +101,78 @@ std::uint64_t codes_within(const unsigned char* x, const unsigned char* y, int f
     return bits;
 }
 
+// Bounds on a sample's central differences Δx = H(c + 1, j) − H(c − 1, j) = 2dx ∂H/∂x and
+// Δy = H(c, j + 1) − H(c, j − 1), computed in float.
+struct DifferenceBounds {
+    float x_lo, x_hi, y_lo, y_hi;
+};
+
+using Float8 = float __attribute__((vector_size(32)));
+using Int8 = int __attribute__((vector_size(32)));
+
+// The kernels at samples c0 … c0 + count − 1 (count ≤ 8) of one y-up row whose differences lie
+// within the bounds, as bits (bit k: sample c0 + k). Columns wrap periodically over `cols`.
+// Eight lanes at once (one AVX compare, or two SSE ones) away from the seam.
+[[gnu::always_inline]] inline unsigned differences_within(const float* below, const float* row,
+                                                          const float* above, int c0, int count, int cols,
+                                                          const DifferenceBounds& bounds) {
+    if (c0 >= 1 && c0 + 9 <= cols && count == 8) {
+        Float8 left, right, down, up;
+        std::memcpy(&left, row + c0 - 1, sizeof left);
+        std::memcpy(&right, row + c0 + 1, sizeof right);
+        std::memcpy(&down, below + c0, sizeof down);
+        std::memcpy(&up, above + c0, sizeof up);
+        const Float8 dx = right - left;
+        const Float8 dy = up - down;
+        const Int8 inside = (dx >= bounds.x_lo) & (dx <= bounds.x_hi) & (dy >= bounds.y_lo) & (dy <= bounds.y_hi);
+        Int8 bits = inside & Int8{1, 2, 4, 8, 16, 32, 64, 128};
+        bits |= __builtin_shufflevector(bits, bits, 4, 5, 6, 7, 0, 1, 2, 3);
+        bits |= __builtin_shufflevector(bits, bits, 2, 3, 0, 1, 6, 7, 4, 5);
+        bits |= __builtin_shufflevector(bits, bits, 1, 0, 3, 2, 5, 4, 7, 6);
+        return static_cast<unsigned>(bits[0]);
+    }
+    unsigned bits = 0;
+    for (int k = 0; k < count; ++k) {
+        const int c = c0 + k;
+        const float dx = row[c + 1 == cols ? 0 : c + 1] - row[c == 0 ? cols - 1 : c - 1];
+        const float dy = above[c] - below[c];
+        bits |= unsigned{dx >= bounds.x_lo && dx <= bounds.x_hi && dy >= bounds.y_lo && dy <= bounds.y_hi} << k;
+    }
+    return bits;
+}
+
+// K = 1, one y-up kernel row: the kernels of the leaves leaf_columns[0 … leaf_count) inside the
+// window's chord [first, last] whose differences lie within the bounds, their columns listed in
+// `columns` and counted. 8 slots are written per leaf and the count advanced by its survivors,
+// so that no branch depends on which kernels survive.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) [[gnu::noinline]]
+std::size_t list_row_survivors(const float* below, const float* row, const float* above, int cols,
+                               const int* leaf_columns, std::size_t leaf_count, long long first, long long last,
+                               const DifferenceBounds& bounds, int* columns) {
+    std::size_t count = 0;
+    std::size_t leaf = 0;
+    while (leaf < leaf_count && (leaf_columns[leaf] + 1LL) * kLeafKernels <= first) ++leaf;
+    for (; leaf < leaf_count && leaf_columns[leaf] * static_cast<long long>(kLeafKernels) <= last; ++leaf) {
+        const int c0 = leaf_columns[leaf] * kLeafKernels;
+        const long long skip_left = std::clamp<long long>(first - c0, 0, kLeafKernels);
+        const long long skip_right = std::clamp<long long>(c0 + kLeafKernels - 1 - last, 0, kLeafKernels);
+        const unsigned chord = (0xFFu << skip_left) & (0xFFu >> skip_right);
+        const unsigned bits =
+            chord & differences_within(below, row, above, c0, std::min(kLeafKernels, cols - c0), cols, bounds);
+        // columns[count + k] = c0 + position k, for all 8 slots at once.
+        const SetBits& set = kSetBits[bits];
+        const __m128i positions = _mm_unpacklo_epi8(
+            _mm_loadl_epi64(reinterpret_cast<const __m128i*>(set.positions.data())), _mm_setzero_si128());
+        const __m128i base = _mm_set1_epi32(c0);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(columns + count),
+                         _mm_add_epi32(_mm_unpacklo_epi16(positions, _mm_setzero_si128()), base));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(columns + count + 4),
+                         _mm_add_epi32(_mm_unpackhi_epi16(positions, _mm_setzero_si128()), base));
+        count += set.count;
+    }
+    return count;
+}
+
 // The directional test at the pruning wavelength, for node boxes and single kernels.
 struct DirectionalReach {
     double vx = 0.0;
@@ -116,7 +194,34 @@ struct DirectionalReach {
             .codes_of((-reach - vy) / xi3_over_lambda, (reach - vy) / xi3_over_lambda, first_y, span_y);
         return codes_within(codes_x, codes_y, first_x, span_x, first_y, span_y);
     }
+    // The same test on the central differences of samples dx apart (K = 1): H' = Δ/(2dx). Δ is
+    // rounded once in float, by at most 2^-24 of a Δ inside the bounds, so widening the bounds
+    // by 2^-20 of their size and rounding them outward never drops a kernel that reaches.
+    DifferenceBounds difference_bounds(double texel_um) const {
+        DifferenceBounds bounds;
+        const auto axis = [&](double v, float& lo, float& hi) {
+            const double a = 2.0 * texel_um * (-reach - v) / xi3_over_lambda;
+            const double b = 2.0 * texel_um * (reach - v) / xi3_over_lambda;
+            const float inf = std::numeric_limits<float>::infinity();
+            if (!(std::isfinite(a) && std::isfinite(b))) {  // ξ3 → 0: keep every kernel
+                lo = -inf;
+                hi = inf;
+                return;
+            }
+            const double margin = 0x1p-20 * std::max(std::fabs(a), std::fabs(b));
+            lo = a - margin < -1e30 ? -inf : round_down(std::min(a - margin, 1e30));
+            hi = b + margin > 1e30 ? inf : round_up(std::max(b + margin, -1e30));
+        };
+        axis(vx, bounds.x_lo, bounds.x_hi);
+        axis(vy, bounds.y_lo, bounds.y_hi);
+        return bounds;
+    }
 };
+
+// The pruning tests widen the reach by this factor, so that rounding in them (which may differ
+// from the kernel sum's, e.g. by fused multiply-adds) never drops a kernel the sum keeps; the
+// sum itself cuts each transform exactly.
+constexpr double kReachMargin = 1.0 + 1e-9;
 
 // w(p) = w(p_x, 0)·w(0, p_y) for both footprints: its factors at the kernel columns and rows
 // around one footprint centre, tabulated once per query instead of once per kernel.
@@ -127,6 +232,8 @@ public:
         tabulate_axis(window, grid, cy, first_row_, rows_);
     }
     double along_x(long long i) const { return columns_[i - first_column_]; }
+    const double* columns() const { return columns_.data(); }  // along_x of first_column(), …
+    long long first_column() const { return first_column_; }
     double along_y(long long j) const { return rows_[j - first_row_]; }
 
 private:
@@ -161,6 +268,66 @@ private:
     std::vector<double> columns_;
     std::vector<double> rows_;
 };
+
+// One y-up row of samples at K = 1 and what its kernels share.
+struct SampledRow {
+    const float* below;  // rows j − 1, j, j + 1 (wrapped)
+    const float* row;
+    const float* above;
+    int cols;
+    double texel_um;
+    double centre_x;          // x_c in this tile copy
+    double py;                // kernel centre y − x_c,y
+    double reference_height;  // H(x_c)
+    double weight_y;          // w(0, p_y) l²
+    const double* weight_x;   // w(p_x, 0) of columns first_column, first_column + 1, …
+    long long first_column;
+};
+
+// Appends the kernels at samples (columns[k], j), k < count: p relative to x_c, H − H(x_c), H'
+// and w_k l². H' is sample_point()'s (−½H(c − 1) + ½H(c + 1))/dx, computed as (H(c + 1) −
+// H(c − 1))·(½/dx), which rounds identically (halving is exact). Out of line and on local
+// copies: inlined into the query, the loop ran out of registers and reloaded everything from
+// memory; without wrapped columns it vectorises (gathers) where the CPU has AVX2.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) [[gnu::noinline]]
+void append_sampled_kernels(const SampledRow& r, const int* columns, std::size_t count,
+                            gabor::KernelArrays& kernels) {
+    const std::size_t at = kernels.extend(count);
+    double* __restrict px = kernels.px.data() + at;
+    double* __restrict py = kernels.py.data() + at;
+    double* __restrict height = kernels.height.data() + at;
+    double* __restrict slope_x = kernels.slope_x.data() + at;
+    double* __restrict slope_y = kernels.slope_y.data() + at;
+    double* __restrict weight = kernels.weight.data() + at;
+    const float* __restrict below = r.below;
+    const float* __restrict row = r.row;
+    const float* __restrict above = r.above;
+    const double* __restrict weight_x = r.weight_x;
+    const long long first_column = r.first_column;
+    const int cols = r.cols;
+    const double texel = r.texel_um;
+    const double half_inverse_texel = 0.5 / texel;
+    const double centre_x = r.centre_x;
+    const double row_py = r.py;
+    const double reference_height = r.reference_height;
+    const double weight_y = r.weight_y;
+    const auto store = [&](std::size_t k, int c, int left, int right) {
+        px[k] = (c + 0.5) * texel - centre_x;
+        py[k] = row_py;
+        height[k] = row[c] - reference_height;
+        slope_x[k] = (double(row[right]) - double(row[left])) * half_inverse_texel;
+        slope_y[k] = (double(above[c]) - double(below[c])) * half_inverse_texel;
+        weight[k] = weight_x[c - first_column] * weight_y;
+    };
+    if (count > 0 && columns[0] > 0 && columns[count - 1] + 1 < cols) {
+        for (std::size_t k = 0; k < count; ++k) store(k, columns[k], columns[k] - 1, columns[k] + 1);
+        return;
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+        const int c = columns[k];
+        store(k, c, c == 0 ? cols - 1 : c - 1, c + 1 == cols ? 0 : c + 1);
+    }
+}
 
 void check_finite(const GaborPointQuery& query) {
     const Vec3 wi = query.omega_i;
@@ -197,7 +364,9 @@ void GaborSurface::build_leaves() {
     leaves.nx = (kernels_x_ + kLeafKernels - 1) / kLeafKernels;
     leaves.ny = (kernels_y_ + kLeafKernels - 1) / kLeafKernels;
     leaves.boxes.resize(static_cast<std::size_t>(leaves.nx) * leaves.ny);
-    leaf_codes_.resize(leaves.boxes.size());
+    // With K = 1 the kernels' H' are central differences of samples, as cheap to test as codes.
+    const bool coded = settings_.kernels_per_texel > 1;
+    if (coded) leaf_codes_.resize(leaves.boxes.size());
     // One row of leaves per chunk: interpolate its kLeafKernels rows of kernels in one grid call.
     parallel_for(leaves.ny, 1, [&](std::size_t begin, std::size_t end) {
         std::vector<SurfacePoint> points(static_cast<std::size_t>(kernels_x_) * kLeafKernels);
@@ -222,6 +391,7 @@ void GaborSurface::build_leaves() {
                     }
                 const SlopeBox box{round_down(x_min), round_up(x_max), round_down(y_min), round_up(y_max)};
                 leaves.boxes[leaf_row * leaves.nx + leaf_col] = box;
+                if (!coded) continue;
                 const SlopeCodec codec_x(box.x_min, box.x_max);
                 const SlopeCodec codec_y(box.y_min, box.y_max);
                 LeafCodes& codes = leaf_codes_[leaf_row * leaves.nx + leaf_col];
@@ -267,29 +437,64 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
     window.check_kernel_count(grid);
     const Vec3 psi = query.omega_i + query.omega_o;
     const DirectionalReach reach{psi.x / prune_lambda_um, psi.y / prune_lambda_um,
-                                 xi3(query.model, query.omega_i, query.omega_o) / prune_lambda_um, grid.reach};
+                                 xi3(query.model, query.omega_i, query.omega_o) / prune_lambda_um,
+                                 grid.reach * kReachMargin};
+    const bool sampled = grid.kernels_per_texel == 1;
+    const DifferenceBounds difference_bounds = sampled ? reach.difference_bounds(grid.spacing_um) : DifferenceBounds{};
     const Point2 centre = query.footprint.centre_um;
     const double reference_height = surface_->height(centre.x, centre.y);
     const double weight_scale = grid.spacing_um * grid.spacing_um;
     const double tile_x = kernels_x_ * grid.spacing_um;
     const double tile_y = kernels_y_ * grid.spacing_um;
     const double extent = window.half_extent_um();
-    thread_local std::vector<std::pair<int, int>> leaves;  // (row, column) of surviving leaves
     thread_local std::vector<std::pair<int, int>> nodes;  // (column, row) of one level's nodes
     thread_local std::vector<std::pair<int, int>> children;
-    thread_local std::vector<int> columns;  // kernels that survive pruning, in one tile copy
-    thread_local std::vector<int> rows;
-    thread_local std::vector<SurfacePoint> points;  // and H, H' there
+    thread_local std::vector<unsigned char> leaf_map;  // over the footprint's leaves: 1 if it survives
+    thread_local std::vector<int> leaf_columns;  // the surviving leaves of one leaf row
     thread_local std::vector<SurfacePoint> block;
-    thread_local std::vector<std::uint64_t> band_bits;  // per leaf of a leaf row: kernels that may reach
+    thread_local std::vector<int> survivor_columns;  // K = 1: kernels of one row that survive pruning
     thread_local SeparableWeights weights;
-    std::size_t survivors = 0;  // entries of columns, rows and points in use
     GaborQueryStatistics counts;
 
-    // Yan 2018 §5: top-down through the hierarchy, dropping nodes outside the footprint or whose
-    // directional box cannot reach the query. Level by level, so that the bounds of a level's
+    // The leaves [x0, x1] × [y0, y1] that may hold kernels of the footprint in one tile copy.
+    struct LeafRange {
+        int x0, x1, y0, y1;
+        int width() const { return x1 - x0 + 1; }
+    };
+    const auto leaf_range = [&](double cx, double cy, LeafRange& range) {
+        const auto axis = [&](double c, int count, int& first, int& last) {
+            const double from = std::max(0.0, std::floor((c - extent) / grid.spacing_um - 0.5));
+            const double to = std::min(count - 1.0, std::ceil((c + extent) / grid.spacing_um - 0.5));
+            first = static_cast<int>(std::min(from, count - 1.0)) / kLeafKernels;
+            last = static_cast<int>(std::max(to, 0.0)) / kLeafKernels;
+            return from <= to;
+        };
+        return axis(cx, kernels_x_, range.x0, range.x1) && axis(cy, kernels_y_, range.y0, range.y1);
+    };
+
+    // K = 1 reads the samples of the footprint's rows (and one more on each side), a few cache
+    // lines per row: those come from outer caches one by one unless asked for ahead of time, a
+    // couple of leaf rows ahead so that they arrive while earlier rows are processed.
+    constexpr int kPrefetchLeafRows = 2;
+    const auto prefetch_samples = [&](const LeafRange& range, int leaf_row) {
+        if (leaf_row > range.y1) return;
+        const int c0 = std::max(0, range.x0 * kLeafKernels - 1);
+        const int c1 = std::min(kernels_x_, (range.x1 + 1) * kLeafKernels + 1);
+        const int j0 = leaf_row * kLeafKernels + (leaf_row == range.y0 ? -1 : 1);
+        const int j1 = (leaf_row + 1) * kLeafKernels + 1;
+        for (int j = j0; j < j1; ++j) {
+            const float* row = surface_->sample_row((j + kernels_y_) % kernels_y_);
+            for (int c = c0; c < c1; c += 16) __builtin_prefetch(row + c);
+            __builtin_prefetch(row + c1 - 1);
+        }
+    };
+
+    // Yan 2018 §5: down the hierarchy, dropping nodes outside the footprint or whose directional
+    // box cannot reach the query; the survivors are marked in leaf_map. The walk starts at the
+    // finest level on which the footprint spans at most 16 × 16 nodes (testing those directly is
+    // cheaper than descending to them), and goes level by level so that the bounds of a level's
     // nodes are fetched from memory together.
-    const auto find_leaves = [&](double cx, double cy) {
+    const auto find_leaves = [&](double cx, double cy, const LeafRange& range) {
         const auto overlaps = [&](int level, int ix, int iy) {
             const int span = kLeafKernels << level;  // kernels per node side
             const int i0 = ix * span;
@@ -299,10 +504,17 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
             return window.overlaps(grid.centre(i0) - cx, grid.centre(i1 - 1) - cx, grid.centre(j0) - cy,
                                    grid.centre(j1 - 1) - cy);
         };
-        const int root = static_cast<int>(levels_.size()) - 1;
-        nodes.assign(1, {0, 0});
-        if (!overlaps(root, 0, 0)) return;
-        for (int level_index = root; level_index >= 0; --level_index) {
+        leaf_map.assign(static_cast<std::size_t>(range.width()) * (range.y1 - range.y0 + 1), 0);
+        int start = 0;
+        const auto nodes_spanned = [&](int level) {
+            return ((range.x1 >> level) - (range.x0 >> level) + 1) * ((range.y1 >> level) - (range.y0 >> level) + 1);
+        };
+        while (start + 1 < static_cast<int>(levels_.size()) && nodes_spanned(start) > 16 * 16) ++start;
+        nodes.clear();
+        for (int iy = range.y0 >> start; iy <= range.y1 >> start; ++iy)
+            for (int ix = range.x0 >> start; ix <= range.x1 >> start; ++ix)
+                if (overlaps(start, ix, iy)) nodes.emplace_back(ix, iy);
+        for (int level_index = start; level_index >= 0; --level_index) {
             const Level& level = levels_[level_index];
             children.clear();
             for (const auto& [ix, iy] : nodes) {
@@ -310,17 +522,22 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
                 const std::size_t index = static_cast<std::size_t>(iy) * level.nx + ix;
                 if (!reach.box_reaches(level.boxes[index])) continue;
                 if (level_index == 0) {
-                    leaves.emplace_back(iy, ix);
-                    __builtin_prefetch(&leaf_codes_[index]);
-                    __builtin_prefetch(reinterpret_cast<const char*>(&leaf_codes_[index]) + 64);
+                    leaf_map[static_cast<std::size_t>(iy - range.y0) * range.width() + (ix - range.x0)] = 1;
+                    if (!sampled) {
+                        __builtin_prefetch(&leaf_codes_[index]);
+                        __builtin_prefetch(reinterpret_cast<const char*>(&leaf_codes_[index]) + 64);
+                    }
                     continue;
                 }
                 const Level& below = levels_[level_index - 1];
+                const int shift = level_index - 1;
                 for (int dy = 0; dy < 2; ++dy)
                     for (int dx = 0; dx < 2; ++dx) {
                         const int child_x = 2 * ix + dx;
                         const int child_y = 2 * iy + dy;
-                        if (child_x >= below.nx || child_y >= below.ny || !overlaps(level_index - 1, child_x, child_y))
+                        if (child_x < range.x0 >> shift || child_x > range.x1 >> shift ||
+                            child_y < range.y0 >> shift || child_y > range.y1 >> shift ||
+                            !overlaps(shift, child_x, child_y))
                             continue;
                         children.emplace_back(child_x, child_y);
                         __builtin_prefetch(&below.boxes[static_cast<std::size_t>(child_y) * below.nx + child_x]);
@@ -330,32 +547,74 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
         }
     };
 
-    // The kernels of one leaf whose bits are set, interpolated from the leaf's block of the
-    // kernel grid (K > 1).
-    const auto add_interpolated = [&](int leaf_row, int leaf_col, std::uint64_t bits) {
-        const int i0 = leaf_col * kLeafKernels;
+    // K = 1: the kernels of the surviving leaves inside the window's chord [first, last] on
+    // kernel row j, tested on their samples' central differences. The survivors' columns are
+    // listed first, 8 slots written per leaf and the count of survivors kept, so that no branch
+    // depends on which kernels survive; then their H and H' (sample_point's arithmetic, with the
+    // row's neighbours fixed) go straight into the kernel arrays.
+    const auto add_sampled_row = [&](double cx, double cy, int j, long long first, long long last) {
+        const float* row = surface_->sample_row(j);
+        const float* below = surface_->sample_row(j == 0 ? kernels_y_ - 1 : j - 1);
+        const float* above = surface_->sample_row(j + 1 == kernels_y_ ? 0 : j + 1);
+        int* columns = survivor_columns.data();
+        const std::size_t count = list_row_survivors(below, row, above, kernels_x_, leaf_columns.data(),
+                                                     leaf_columns.size(), first, last, difference_bounds, columns);
+        counts.kernels_evaluated += count;
+        const SampledRow sampled_row{below,
+                                     row,
+                                     above,
+                                     kernels_x_,
+                                     grid.spacing_um,
+                                     cx,
+                                     grid.centre(j) - cy,
+                                     reference_height,
+                                     weights.along_y(j) * weight_scale,
+                                     weights.columns(),
+                                     weights.first_column()};
+        append_sampled_kernels(sampled_row, columns, count, kernels);
+    };
+
+    // K > 1: per surviving leaf, the kernels inside the window whose codes may reach; the leaf's
+    // block of the kernel grid is interpolated once if any are left.
+    const auto add_coded_leaf = [&](double cx, double cy, int leaf_row, int leaf_column, const long long* first,
+                                    const long long* last) {
+        const int i0 = leaf_column * kLeafKernels;
         const int j0 = leaf_row * kLeafKernels;
         const int nx = std::min(kLeafKernels, kernels_x_ - i0);
         const int ny = std::min(kLeafKernels, kernels_y_ - j0);
+        std::uint64_t inside = 0;  // kernels of the leaf that the window contains
+        for (int j = 0; j < ny; ++j) {
+            const long long from = std::max<long long>(first[j], i0);
+            const long long to = std::min<long long>(last[j], i0 + kLeafKernels - 1);
+            if (from > to) continue;
+            const std::uint64_t run = (std::uint64_t{2} << (to - from)) - 1;
+            inside |= run << (j * kLeafKernels + (from - i0));
+        }
+        if (inside == 0) return;
+        const std::size_t index = static_cast<std::size_t>(leaf_row) * levels_.front().nx + leaf_column;
+        const LeafCodes& codes = leaf_codes_[index];
+        std::uint64_t bits = inside & reach.leaf_reaches(levels_.front().boxes[index], codes.x, codes.y);
+        if (bits == 0) return;
         block.resize(static_cast<std::size_t>(kLeafKernels) * kLeafKernels);
         gabor::evaluate_kernels(*surface_, grid, i0, j0, nx, ny, block.data());
         counts.kernels_evaluated += static_cast<std::size_t>(nx) * ny;
-        for (; bits != 0; bits &= bits - 1, ++survivors) {
+        for (; bits != 0; bits &= bits - 1) {
             const int k = std::countr_zero(bits);
-            columns[survivors] = i0 + k % kLeafKernels;
-            rows[survivors] = j0 + k / kLeafKernels;
-            points[survivors] = block[static_cast<std::size_t>(k / kLeafKernels) * nx + k % kLeafKernels];
+            const int i = i0 + k % kLeafKernels;
+            const int j = j0 + k / kLeafKernels;
+            kernels.push(grid.centre(i) - cx, grid.centre(j) - cy,
+                         block[static_cast<std::size_t>(k / kLeafKernels) * nx + k % kLeafKernels], reference_height,
+                         weights.along_x(i) * weights.along_y(j) * weight_scale);
         }
     };
 
-    // The surviving leaves [begin, end) of one leaf row: the window's chord on each kernel row,
-    // then per leaf the kernels inside it whose codes may reach.
-    const auto add_leaf_row = [&](double cx, double cy, const std::pair<int, int>* begin,
-                                  const std::pair<int, int>* end) {
-        const int j0 = begin->first * kLeafKernels;
+    // One leaf row's surviving leaves (leaf_columns, ascending): the window's chord on each of its
+    // kernel rows over their span, then the kernels.
+    const auto add_leaf_row = [&](double cx, double cy, int leaf_row) {
+        const int j0 = leaf_row * kLeafKernels;
         const int j1 = std::min(kernels_y_, j0 + kLeafKernels);
-        const int i0 = begin->second * kLeafKernels;
-        const int i1 = std::min(kernels_x_, ((end - 1)->second + 1) * kLeafKernels);
+        const int i0 = leaf_columns.front() * kLeafKernels;
+        const int i1 = std::min(kernels_x_, (leaf_columns.back() + 1) * kLeafKernels);
         long long first[kLeafKernels];
         long long last[kLeafKernels];
         for (int j = j0; j < j1; ++j)
@@ -363,44 +622,15 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
                 first[j - j0] = i1;
                 last[j - j0] = i1 - 1;
             }
-        const Level& leaves_level = levels_.front();
-        band_bits.resize(end - begin);
-        for (const std::pair<int, int>* leaf = begin; leaf != end; ++leaf) {
-            band_bits[leaf - begin] = 0;
-            const long long leaf_i0 = static_cast<long long>(leaf->second) * kLeafKernels;
-            std::uint64_t inside = 0;  // kernels of the leaf that the window contains
-            for (int j = j0; j < j1; ++j) {
-                const long long from = std::max(first[j - j0], leaf_i0);
-                const long long to = std::min(last[j - j0], leaf_i0 + kLeafKernels - 1);
-                if (from > to) continue;
-                const std::uint64_t run = (std::uint64_t{2} << (to - from)) - 1;
-                inside |= run << ((j - j0) * kLeafKernels + (from - leaf_i0));
-            }
-            if (inside == 0) continue;
-            const std::size_t index = static_cast<std::size_t>(leaf->first) * leaves_level.nx + leaf->second;
-            const LeafCodes& codes = leaf_codes_[index];
-            band_bits[leaf - begin] = inside & reach.leaf_reaches(leaves_level.boxes[index], codes.x, codes.y);
-        }
-        if (grid.kernels_per_texel != 1) {
-            for (const std::pair<int, int>* leaf = begin; leaf != end; ++leaf)
-                if (band_bits[leaf - begin] != 0) add_interpolated(leaf->first, leaf->second, band_bits[leaf - begin]);
+        if (sampled) {
+            // + 8: unpacking writes 8 slots past the survivors.
+            survivor_columns.resize(std::max(survivor_columns.size(), leaf_columns.size() * kLeafKernels + 8));
+            for (int j = j0; j < j1; ++j)
+                if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0]);
             return;
         }
-        // Samples, gathered later: listed row by row across the leaves, so that consecutive
-        // samples share cache lines. Each byte of bits is unpacked through a table, without a
-        // branch on the number of bits set (8 slots are written, popcount of them kept).
-        for (int j = j0; j < j1; ++j)
-            for (const std::pair<int, int>* leaf = begin; leaf != end; ++leaf) {
-                const int i0_leaf = leaf->second * kLeafKernels;
-                const std::uint64_t bits = band_bits[leaf - begin] >> ((j - j0) * kLeafKernels);
-                const auto row_bits = static_cast<unsigned>(bits & 0xFF);
-                const std::array<std::uint8_t, 8>& positions = kSetBitPositions[row_bits];
-                for (int k = 0; k < 8; ++k) {
-                    columns[survivors + k] = i0_leaf + positions[k];
-                    rows[survivors + k] = j;
-                }
-                survivors += std::popcount(row_bits);
-            }
+        kernels.reserve_more(leaf_columns.size() * kLeafKernels * kLeafKernels);
+        for (const int leaf_column : leaf_columns) add_coded_leaf(cx, cy, leaf_row, leaf_column, first, last);
     };
 
     // The surface tiles periodically: visit every tile copy the footprint overlaps, with the
@@ -411,32 +641,20 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
              tx <= std::llround(std::floor((centre.x + extent) / tile_x)); ++tx) {
             const double cx = centre.x - tx * tile_x;
             const double cy = centre.y - ty * tile_y;
+            LeafRange range;
+            if (!leaf_range(cx, cy, range)) continue;
+            if (sampled)
+                for (int ahead = 0; ahead < kPrefetchLeafRows; ++ahead) prefetch_samples(range, range.y0 + ahead);
             weights.tabulate(window, grid, cx, cy);
-            leaves.clear();
-            find_leaves(cx, cy);
-            // The buffers only grow, so a thread's queries stop allocating after the first few.
-            const std::size_t most = leaves.size() * kLeafKernels * kLeafKernels + 8;  // + 8: unpacking slack
-            if (columns.size() < most) {
-                columns.resize(most);
-                rows.resize(most);
-                points.resize(most);
+            find_leaves(cx, cy, range);
+            for (int leaf_row = range.y0; leaf_row <= range.y1; ++leaf_row) {
+                if (sampled) prefetch_samples(range, leaf_row + kPrefetchLeafRows);
+                leaf_columns.clear();
+                const unsigned char* marks = &leaf_map[static_cast<std::size_t>(leaf_row - range.y0) * range.width()];
+                for (int k = 0; k < range.width(); ++k)
+                    if (marks[k]) leaf_columns.push_back(range.x0 + k);
+                if (!leaf_columns.empty()) add_leaf_row(cx, cy, leaf_row);
             }
-            survivors = 0;
-            std::sort(leaves.begin(), leaves.end());
-            for (std::size_t begin = 0; begin < leaves.size();) {
-                std::size_t end = begin + 1;
-                while (end < leaves.size() && leaves[end].first == leaves[begin].first) ++end;
-                add_leaf_row(cx, cy, leaves.data() + begin, leaves.data() + end);
-                begin = end;
-            }
-            if (grid.kernels_per_texel == 1) {
-                surface_->evaluate_samples(columns.data(), rows.data(), survivors, points.data());
-                counts.kernels_evaluated += survivors;
-            }
-            kernels.reserve_more(survivors);
-            for (std::size_t k = 0; k < survivors; ++k)
-                kernels.push(grid.centre(columns[k]) - cx, grid.centre(rows[k]) - cy, points[k], reference_height,
-                             weights.along_x(columns[k]) * weights.along_y(rows[k]) * weight_scale);
         }
     if (statistics) {
         statistics->nodes_visited += counts.nodes_visited;
@@ -444,19 +662,47 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
     }
 }
 
+namespace {
+
+// f_r = ξ1/A_c |Σ_k w_k C_k F[g_k](v)|² over kernels [0, end) at one wavelength (Yan 2018 eq. 16–17).
+double brdf_of_kernels(const GaborPointQuery& query, const gabor::KernelArrays& kernels, std::size_t end,
+                       double lambda_um, const gabor::KernelGrid& grid, double area_um2,
+                       GaborQueryStatistics* statistics) {
+    const gabor::TransformPoint point =
+        gabor::transform_point(query.model, gabor::FresnelAtWavelength(query.material, lambda_um), query.omega_i,
+                               query.omega_o, lambda_um, area_um2);
+    if (statistics) statistics->kernels_summed += end;
+    return point.brdf_scale * std::norm(gabor::sum_transforms(kernels, 0, end, point, grid));
+}
+
+void check_wavelength(double lambda_um) {
+    if (!(lambda_um > 0.0 && std::isfinite(lambda_um))) throw Error("gabor: wavelengths must be positive and finite");
+}
+
+}  // namespace
+
 double GaborSurface::f_r(const GaborPointQuery& query, double lambda_um, GaborQueryStatistics* statistics) const {
-    thread_local std::vector<double> wavelength(1);
-    wavelength[0] = lambda_um;
-    return f_r(query, wavelength, statistics).front();
+    check_finite(query);
+    check_wavelength(lambda_um);
+    if (query.omega_i.z <= 0.0 || query.omega_o.z <= 0.0) return 0.0;
+    thread_local gabor::KernelArrays collected;
+    collected.clear();
+    collect(query, lambda_um, collected, statistics);
+    const gabor::KernelGrid grid = gabor::kernel_grid(surface_->texel_um(), settings_);
+    const double area = gabor::CoherenceWindow(query.footprint, settings_.footprint_sigmas).area_um2();
+    return brdf_of_kernels(query, collected, collected.size(), lambda_um, grid, area, statistics);
 }
 
 std::vector<double> GaborSurface::f_r(const GaborPointQuery& query, const std::vector<double>& wavelengths_um,
                                       GaborQueryStatistics* statistics) const {
     check_finite(query);
-    for (double lambda : wavelengths_um)
-        if (!(lambda > 0.0 && std::isfinite(lambda))) throw Error("gabor: wavelengths must be positive and finite");
+    for (double lambda : wavelengths_um) check_wavelength(lambda);
     std::vector<double> values(wavelengths_um.size(), 0.0);
     if (wavelengths_um.empty() || query.omega_i.z <= 0.0 || query.omega_o.z <= 0.0) return values;
+    if (wavelengths_um.size() == 1) {
+        values[0] = f_r(query, wavelengths_um[0], statistics);
+        return values;
+    }
 
     // A kernel's directional box, in slope space, is |ψ̄ + ξ3 H'| ≤ reach·λ: widest at the longest
     // wavelength, so the kernels pruned there are pruned at every wavelength.
@@ -468,18 +714,6 @@ std::vector<double> GaborSurface::f_r(const GaborPointQuery& query, const std::v
 
     const gabor::KernelGrid grid = gabor::kernel_grid(surface_->texel_um(), settings_);
     const double area = gabor::CoherenceWindow(query.footprint, settings_.footprint_sigmas).area_um2();
-    const auto sum = [&](const gabor::KernelArrays& kernels, std::size_t end, double lambda) {
-        const gabor::TransformPoint point = gabor::transform_point(
-            query.model, gabor::FresnelAtWavelength(query.material, lambda), query.omega_i, query.omega_o, lambda,
-            area);
-        if (statistics) statistics->kernels_summed += end;
-        // Yan 2018 eq. 16–17.
-        return point.brdf_scale * std::norm(gabor::sum_transforms(kernels, 0, end, point, grid));
-    };
-    if (wavelengths_um.size() == 1) {
-        values[0] = sum(collected, collected.size(), wavelengths_um[0]);
-        return values;
-    }
 
     // Order the survivors by the shortest wavelength that still reaches them, so that each
     // wavelength sums a prefix: kernel k reaches λ when λ ≥ λ_k = max_axis |ψ̄ + ξ3 H'_k| / reach.
@@ -507,7 +741,7 @@ std::vector<double> GaborSurface::f_r(const GaborPointQuery& query, const std::v
     for (std::size_t i = 0; i < wavelengths_um.size(); ++i) {
         const double lambda = wavelengths_um[i];
         const auto reached = std::upper_bound(ascending.begin(), ascending.end(), lambda) - ascending.begin();
-        values[i] = sum(ordered, prefix[reached], lambda);
+        values[i] = brdf_of_kernels(query, ordered, prefix[reached], lambda, grid, area, statistics);
     }
     return values;
 }

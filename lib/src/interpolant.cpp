@@ -36,6 +36,7 @@ BicubicInterpolant::BicubicInterpolant(const Heightfield& field) {
     rows_ = field.rows;
     cols_ = field.cols;
     texel_um_ = field.texel_um;
+    inverse_texel_ = 1.0 / texel_um_;
     grid_.resize(field.heights_um.size());
     for (int j = 0; j < rows_; ++j)
         for (int c = 0; c < cols_; ++c) grid_[static_cast<std::size_t>(j) * cols_ + c] = field.at(rows_ - 1 - j, c);
@@ -98,7 +99,7 @@ SurfacePoint combine(const std::vector<float>& grid, int cols, double inverse_te
 }  // namespace
 
 SurfacePoint BicubicInterpolant::evaluate(double x_um, double y_um) const {
-    return combine(grid_, cols_, 1.0 / texel_um_, axis_taps(x_um, texel_um_, cols_), axis_taps(y_um, texel_um_, rows_));
+    return combine(grid_, cols_, inverse_texel_, axis_taps(x_um, texel_um_, cols_), axis_taps(y_um, texel_um_, rows_));
 }
 
 void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_um, int nx, int ny,
@@ -112,7 +113,6 @@ void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_u
         double along_x[kBlock];
         double along_x_du[kBlock];
     };
-    const double inverse_texel = 1.0 / texel_um_;
     AxisTaps x_taps[kBlock];
     FilteredRow cache[kCachedRows];
     for (int i0 = 0; i0 < nx; i0 += kBlock) {
@@ -158,15 +158,15 @@ void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_u
                     dh_du += y.weights.w[m] * rows[m]->along_x_du[i];
                     dh_dv += y.weights.dw[m] * rows[m]->along_x[i];
                 }
-                line[i] = {h, dh_du * inverse_texel, dh_dv * inverse_texel};
+                line[i] = {h, dh_du * inverse_texel_, dh_dv * inverse_texel_};
             }
         }
     }
 }
 
 void BicubicInterpolant::evaluate_samples(long long c0, long long j0, int nx, int ny, SurfacePoint* out) const {
-    // At t = 0 the Catmull–Rom weights are (0, 1, 0, 0) and their derivatives (−½, 0, ½, 0).
-    const double inverse_texel = 1.0 / texel_um_;
+    // At t = 0 the Catmull–Rom weights are (0, 1, 0, 0) and their derivatives (−½, 0, ½, 0); the
+    // arithmetic is sample_point()'s, so both give identical values.
     const auto wrapped = [](long long i, int n) { return static_cast<int>(((i % n) + n) % n); };
     for (int j = 0; j < ny; ++j) {
         const float* below = &grid_[static_cast<std::size_t>(wrapped(j0 + j - 1, rows_)) * cols_];
@@ -177,37 +177,11 @@ void BicubicInterpolant::evaluate_samples(long long c0, long long j0, int nx, in
         SurfacePoint* line = out + static_cast<std::size_t>(j) * nx;
         for (int i = 0; i < nx; ++i) {
             const int right = centre + 1 == cols_ ? 0 : centre + 1;
-            line[i] = {row[centre], (-0.5 * row[left] + 0.5 * row[right]) * inverse_texel,
-                       (-0.5 * below[centre] + 0.5 * above[centre]) * inverse_texel};
+            line[i] = {row[centre], (-0.5 * row[left] + 0.5 * row[right]) * inverse_texel_,
+                       (-0.5 * below[centre] + 0.5 * above[centre]) * inverse_texel_};
             left = centre;
             centre = right;
         }
-    }
-}
-
-void BicubicInterpolant::evaluate_samples(const int* columns, const int* rows, std::size_t count,
-                                          SurfacePoint* out) const {
-    // The weights of evaluate_samples(c0, j0, …) above, with the neighbours wrapped by compares.
-    // Scattered samples miss the cache: each point asks for those of a later one ahead of time.
-    constexpr std::size_t kAhead = 48;
-    const double inverse_texel = 1.0 / texel_um_;
-    for (std::size_t k = 0; k < count; ++k) {
-        if (k + kAhead < count) {
-            const int ahead = rows[k + kAhead];
-            const float* row = &grid_[static_cast<std::size_t>(ahead) * cols_ + columns[k + kAhead]];
-            __builtin_prefetch(row);
-            __builtin_prefetch(ahead == 0 ? row + (rows_ - 1) * static_cast<std::size_t>(cols_) : row - cols_);
-            __builtin_prefetch(ahead + 1 == rows_ ? row - (rows_ - 1) * static_cast<std::size_t>(cols_) : row + cols_);
-        }
-        const int c = columns[k];
-        const int j = rows[k];
-        const float* row = &grid_[static_cast<std::size_t>(j) * cols_];
-        const float* below = &grid_[static_cast<std::size_t>(j == 0 ? rows_ - 1 : j - 1) * cols_];
-        const float* above = &grid_[static_cast<std::size_t>(j + 1 == rows_ ? 0 : j + 1) * cols_];
-        const int left = c == 0 ? cols_ - 1 : c - 1;
-        const int right = c + 1 == cols_ ? 0 : c + 1;
-        out[k] = {row[c], (-0.5 * row[left] + 0.5 * row[right]) * inverse_texel,
-                  (-0.5 * below[c] + 0.5 * above[c]) * inverse_texel};
     }
 }
 

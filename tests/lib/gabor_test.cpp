@@ -267,16 +267,22 @@ TEST(GaborSurface, SpectralQueryEqualsSingleWavelengthQueries) {
 
 // The surface tiles: a footprint across the field's corner, or one tile away, sees the same
 // kernels as the image method, which reads the periodic interpolant directly.
+// Both densities: K = 1 tests and reads the samples' differences across the seam itself.
 TEST(GaborSurface, FootprintWrapsAroundThePeriodicField) {
-    LobeQuery query = isotropic_query(16);
-    query.footprint.centre_um = {3.0, 1020.0};
-    const LobeImage image = compute_lobe("gabor", query);
-    const GaborSurface surface(query.surface);
-    GaborPointQuery point{query.footprint, query.omega_i, pixel_direction(7, 9, 16), DiffractionModel::rohs, {}};
-    const double near_corner = surface.f_r(point, 0.5);
-    EXPECT_NEAR(near_corner, image.at(0, 7, 9), 1e-4 * near_corner);
-    point.footprint.centre_um = {3.0 - 1024.0, 1020.0 + 2048.0};
-    EXPECT_NEAR(surface.f_r(point, 0.5), near_corner, 1e-9 * near_corner);
+    for (const int density : {1, 2}) {
+        LobeQuery query = isotropic_query(16);
+        query.footprint.centre_um = {3.0, 1020.0};
+        query.method_options["kernels_per_texel"] = std::to_string(density);
+        const LobeImage image = compute_lobe("gabor", query);
+        GaborSettings settings;
+        settings.kernels_per_texel = density;
+        const GaborSurface surface(query.surface, settings);
+        GaborPointQuery point{query.footprint, query.omega_i, pixel_direction(7, 9, 16), DiffractionModel::rohs, {}};
+        const double near_corner = surface.f_r(point, 0.5);
+        EXPECT_NEAR(near_corner, image.at(0, 7, 9), 1e-4 * near_corner) << "K = " << density;
+        point.footprint.centre_um = {3.0 - 1024.0, 1020.0 + 2048.0};
+        EXPECT_NEAR(surface.f_r(point, 0.5), near_corner, 1e-9 * near_corner) << "K = " << density;
+    }
 }
 
 // ---- Threads and errors -----------------------------------------------------------------------

@@ -122,27 +122,20 @@ TEST(BicubicInterpolant, GridAndSampleEvaluationsMatchPointwise) {
         }
 }
 
-// Scattered samples, on the seams too, take exactly the block evaluation's values.
-TEST(BicubicInterpolant, ScatteredSampleEvaluationMatchesBlock) {
+// Single samples, on the seams too, take exactly the block evaluation's values.
+TEST(BicubicInterpolant, SamplePointMatchesBlock) {
     const BicubicInterpolant surface(sampled(40));
     std::vector<SurfacePoint> block(40 * 40);
     surface.evaluate_samples(0, 0, 40, 40, block.data());
-    std::vector<int> columns;
-    std::vector<int> rows;
-    for (int k = 0; k < 200; ++k) {
-        columns.push_back((k * 7) % 40);
-        rows.push_back((k * 13 + k / 40) % 40);
-    }
-    columns[0] = 0, rows[0] = 39;
-    columns[1] = 39, rows[1] = 0;
-    std::vector<SurfacePoint> scattered(columns.size());
-    surface.evaluate_samples(columns.data(), rows.data(), columns.size(), scattered.data());
-    for (std::size_t k = 0; k < columns.size(); ++k) {
-        const SurfacePoint& expected = block[rows[k] * 40 + columns[k]];
-        EXPECT_EQ(scattered[k].height, expected.height);
-        EXPECT_EQ(scattered[k].dh_dx, expected.dh_dx);
-        EXPECT_EQ(scattered[k].dh_dy, expected.dh_dy);
-    }
+    for (int j = 0; j < 40; ++j)
+        for (int c = 0; c < 40; ++c) {
+            const SurfacePoint expected = block[j * 40 + c];
+            const SurfacePoint got = surface.sample_point(c, j);
+            EXPECT_EQ(got.height, expected.height);
+            EXPECT_EQ(got.dh_dx, expected.dh_dx);
+            EXPECT_EQ(got.dh_dy, expected.dh_dy);
+            EXPECT_EQ(surface.sample_row(j)[c], got.height);
+        }
 }
 
 TEST(BicubicInterpolant, RefusesMissingPoints) {

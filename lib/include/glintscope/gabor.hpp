@@ -97,18 +97,19 @@ struct GaborPointQuery {
 
 struct GaborQueryStatistics {
     std::size_t nodes_visited = 0;       // hierarchy nodes tested
-    std::size_t kernels_evaluated = 0;   // kernels whose H, H' were interpolated
+    std::size_t kernels_evaluated = 0;   // kernels whose H, H' were read (K = 1) or interpolated
     std::size_t kernels_summed = 0;      // kernels passed to the sum, added up over wavelengths
 };
 
 // A heightfield prepared for point queries: a mip-style quadtree over the kernel grid whose
-// nodes hold the range of H' over their kernels (Yan 2018 §5), and whose leaves also hold each
-// kernel's H' quantised to 8 bits per axis within the leaf's range. A query visits the nodes
-// that overlap the footprint and whose directional box ξ3 H'/λ ± kernel_sigmas/(2πσ_k) can reach
-// −ψ̄/λ, tests each kernel of the surviving leaves on its quantised H', interpolates H and H' at
-// the kernels that pass and sums their transforms. Pruning drops only kernels whose truncated
-// transform is zero at the query, so it does not change f_r.
-// The structure is immutable after construction; queries may run concurrently.
+// nodes hold the range of H' over their kernels (Yan 2018 §5). A query visits the nodes that
+// overlap the footprint and whose directional box ξ3 H'/λ ± kernel_sigmas/(2πσ_k) can reach
+// −ψ̄/λ, then tests each kernel of the surviving leaves and sums the transforms of those that
+// pass. With one kernel per texel the kernels are the samples and the test reads their central
+// differences directly; with more, the leaves also hold each kernel's H' quantised to 8 bits per
+// axis within the leaf's range, so that only leaves with passing codes are interpolated.
+// Pruning drops only kernels whose truncated transform is zero at the query, so it does not
+// change f_r. The structure is immutable after construction; queries may run concurrently.
 class GaborSurface {
 public:
     explicit GaborSurface(std::shared_ptr<const BicubicInterpolant> surface, GaborSettings settings = {});
@@ -136,8 +137,9 @@ private:
         int ny = 0;
         std::vector<SlopeBox> boxes;  // row-major, y-up like the kernel grid
     };
-    // Per leaf, the codes of its kernels' ∂H/∂x then those of ∂H/∂y, kernel (i, j) of the leaf at
-    // j·kLeafKernels + i: code = ⌊(H' − min) · 255/max(max − min, 1e-6)⌋ over the leaf's box.
+    // Per leaf (K > 1 only), the codes of its kernels' ∂H/∂x then those of ∂H/∂y, kernel (i, j)
+    // of the leaf at j·kLeafKernels + i: code = ⌊(H' − min) · 255/max(max − min, 1e-6)⌋ over the
+    // leaf's box.
     struct LeafCodes {
         unsigned char x[64];
         unsigned char y[64];
@@ -154,7 +156,7 @@ private:
     int kernels_x_ = 0;  // kernel grid of one tile of the periodic surface
     int kernels_y_ = 0;
     std::vector<Level> levels_;  // levels_[0]: leaves of kLeafKernels² kernels; back(): the root
-    std::vector<LeafCodes> leaf_codes_;  // parallel to levels_[0].boxes
+    std::vector<LeafCodes> leaf_codes_;  // parallel to levels_[0].boxes; empty at K = 1
 };
 
 }  // namespace glintscope

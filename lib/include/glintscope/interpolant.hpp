@@ -30,9 +30,19 @@ public:
     // differences: sample columns c0 … c0 + nx − 1 and y-up rows j0 … j0 + ny − 1 (sample (c, j)
     // at ((c + ½)dx, (j + ½)dx), indices wrapped periodically), into out[j·nx + i].
     void evaluate_samples(long long c0, long long j0, int nx, int ny, SurfacePoint* out) const;
-    // The same at scattered samples (columns[k], rows[k]), 0 ≤ column < cols(), 0 ≤ row < rows()
-    // (y-up), into out[k].
-    void evaluate_samples(const int* columns, const int* rows, std::size_t count, SurfacePoint* out) const;
+    // The same at one sample (c, j), 0 ≤ c < cols(), 0 ≤ j < rows() (y-up).
+    SurfacePoint sample_point(int c, int j) const {
+        const float* row = sample_row(j);
+        const float* below = sample_row(j == 0 ? rows_ - 1 : j - 1);
+        const float* above = sample_row(j + 1 == rows_ ? 0 : j + 1);
+        const int left = c == 0 ? cols_ - 1 : c - 1;
+        const int right = c + 1 == cols_ ? 0 : c + 1;
+        return {row[c], (-0.5 * row[left] + 0.5 * row[right]) * inverse_texel_,
+                (-0.5 * below[c] + 0.5 * above[c]) * inverse_texel_};
+    }
+    // The samples of y-up row j (0 ≤ j < rows()), cols() of them, for code that tests many
+    // samples' central differences at once.
+    const float* sample_row(int j) const { return grid_.data() + static_cast<std::size_t>(j) * cols_; }
 
     double texel_um() const { return texel_um_; }
     int rows() const { return rows_; }
@@ -44,6 +54,7 @@ private:
     int rows_ = 0;
     int cols_ = 0;
     double texel_um_ = 1.0;
+    double inverse_texel_ = 1.0;  // 1/dx: derivatives multiply by it, identically everywhere
     double max_slope_ = 0.0;
     std::vector<float> grid_;  // y-up order: grid_[j·cols + c] is the sample at y = (j + 0.5)·dx
 };
