@@ -165,23 +165,12 @@ void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_u
 }
 
 void BicubicInterpolant::evaluate_samples(long long c0, long long j0, int nx, int ny, SurfacePoint* out) const {
-    // At t = 0 the Catmull–Rom weights are (0, 1, 0, 0) and their derivatives (−½, 0, ½, 0); the
-    // arithmetic is sample_point()'s, so both give identical values.
     const auto wrapped = [](long long i, int n) { return static_cast<int>(((i % n) + n) % n); };
     for (int j = 0; j < ny; ++j) {
-        const float* below = &grid_[static_cast<std::size_t>(wrapped(j0 + j - 1, rows_)) * cols_];
-        const float* row = &grid_[static_cast<std::size_t>(wrapped(j0 + j, rows_)) * cols_];
-        const float* above = &grid_[static_cast<std::size_t>(wrapped(j0 + j + 1, rows_)) * cols_];
-        int left = wrapped(c0 - 1, cols_);
-        int centre = wrapped(c0, cols_);
-        SurfacePoint* line = out + static_cast<std::size_t>(j) * nx;
-        for (int i = 0; i < nx; ++i) {
-            const int right = centre + 1 == cols_ ? 0 : centre + 1;
-            line[i] = {row[centre], (-0.5 * row[left] + 0.5 * row[right]) * inverse_texel_,
-                       (-0.5 * below[centre] + 0.5 * above[centre]) * inverse_texel_};
-            left = centre;
-            centre = right;
-        }
+        const int row = wrapped(j0 + j, rows_);
+        int column = wrapped(c0, cols_);
+        for (int i = 0; i < nx; ++i, column = column + 1 == cols_ ? 0 : column + 1)
+            out[static_cast<std::size_t>(j) * nx + i] = sample_point(column, row);
     }
 }
 

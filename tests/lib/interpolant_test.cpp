@@ -122,7 +122,8 @@ TEST(BicubicInterpolant, GridAndSampleEvaluationsMatchPointwise) {
         }
 }
 
-// Single samples, on the seams too, take exactly the block evaluation's values.
+// Single samples, on the seams too, take exactly the block evaluation's values (the block
+// evaluation is built on them; this pins the wrapping of both).
 TEST(BicubicInterpolant, SamplePointMatchesBlock) {
     const BicubicInterpolant surface(sampled(40));
     std::vector<SurfacePoint> block(40 * 40);

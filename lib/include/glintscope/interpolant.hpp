@@ -30,7 +30,8 @@ public:
     // differences: sample columns c0 … c0 + nx − 1 and y-up rows j0 … j0 + ny − 1 (sample (c, j)
     // at ((c + ½)dx, (j + ½)dx), indices wrapped periodically), into out[j·nx + i].
     void evaluate_samples(long long c0, long long j0, int nx, int ny, SurfacePoint* out) const;
-    // The same at one sample (c, j), 0 ≤ c < cols(), 0 ≤ j < rows() (y-up).
+    // The same at one sample (c, j), 0 ≤ c < cols(), 0 ≤ j < rows() (y-up). At t = 0 the
+    // Catmull–Rom weights are (0, 1, 0, 0) and their derivatives (−½, 0, ½, 0).
     SurfacePoint sample_point(int c, int j) const {
         const float* row = sample_row(j);
         const float* below = sample_row(j == 0 ? rows_ - 1 : j - 1);
