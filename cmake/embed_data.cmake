@@ -22,7 +22,7 @@ foreach(relative_path IN LISTS data_files)
 endforeach()
 
 set(source "// Generated from data/ by cmake/embed_data.cmake: do not edit.
-#include \"embedded_data.hpp\"
+#include \"core/embedded_data.hpp\"
 
 namespace glintscope {
 

@@ -1,7 +1,7 @@
 #pragma once
 // One query describes a lobe; every method (fft, gabor, and later geometric, kirchhoff, stam,
 // discrete) answers it with the same image type. A method is a free function in its own file,
-// listed once in the method table (lib/src/lobe_methods.cpp); adding one touches no other method.
+// listed once in the method table (lib/src/lobe/method_table.cpp); adding one touches no other method.
 #include <map>
 #include <memory>
 #include <string>

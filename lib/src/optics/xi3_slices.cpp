@@ -1,4 +1,4 @@
-#include "fft_xi3_slices.hpp"
+#include "xi3_slices.hpp"
 
 #include <cmath>
 #include <numbers>

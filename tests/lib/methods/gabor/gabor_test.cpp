@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "gabor_kernels.hpp"
+#include "methods/gabor/gabor_kernels.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/fft_lobe.hpp"
 #include "glintscope/gabor.hpp"

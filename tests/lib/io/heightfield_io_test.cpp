@@ -19,7 +19,7 @@
 #include "cli_runner.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/heightfield_io.hpp"
-#include "md5.hpp"
+#include "core/md5.hpp"
 
 namespace glintscope {
 namespace {

@@ -10,7 +10,7 @@
 
 #include <OpenColorIO/OpenColorIO.h>
 
-#include "embedded_data.hpp"
+#include "core/embedded_data.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/geometry.hpp"
 #include "glintscope/parallel.hpp"

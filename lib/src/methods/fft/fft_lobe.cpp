@@ -7,9 +7,9 @@
 #include <numbers>
 #include <string>
 
-#include "chirp_z.hpp"
-#include "fft_footprint_grid.hpp"
-#include "fft_xi3_slices.hpp"
+#include "numerics/chirp_z.hpp"
+#include "numerics/footprint_grid.hpp"
+#include "optics/xi3_slices.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/material.hpp"
 #include "glintscope/parallel.hpp"

@@ -1,4 +1,4 @@
-#include "fft_footprint_grid.hpp"
+#include "footprint_grid.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -10,7 +10,7 @@
 #include <numbers>
 #include <vector>
 
-#include "counter_rng.hpp"
+#include "core/counter_rng.hpp"
 #include "generators.hpp"
 #include "glintscope/parallel.hpp"
 

@@ -6,9 +6,9 @@
 #include <numbers>
 #include <vector>
 
-#include "correlation_spectrum.hpp"
-#include "counter_rng.hpp"
-#include "fftw_plans.hpp"
+#include "surface/correlation_spectrum.hpp"
+#include "core/counter_rng.hpp"
+#include "numerics/fftw_plans.hpp"
 #include "generators.hpp"
 #include "glintscope/parallel.hpp"
 

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <vector>
 
-#include "counter_rng.hpp"
+#include "core/counter_rng.hpp"
 #include "generators.hpp"
 #include "glintscope/parallel.hpp"
 

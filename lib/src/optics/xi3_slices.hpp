@@ -10,7 +10,7 @@
 // The nodes sit on the fixed lattice k/M, so a pixel's value does not depend on which other
 // pixels the image holds: swapping ω_i and ω_o reuses the same nodes, keeping reciprocity exact.
 #include "glintscope/diffraction_model.hpp"
-#include "fft_footprint_grid.hpp"
+#include "numerics/footprint_grid.hpp"
 
 namespace glintscope {
 

@@ -10,7 +10,7 @@
 
 #include "cli_runner.hpp"
 #include "scoped_ocio.hpp"
-#include "embedded_data.hpp"
+#include "core/embedded_data.hpp"
 #include "glintscope/colour.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/geometry.hpp"

@@ -41,7 +41,7 @@
 #include <zip.h>
 
 #include "formats.hpp"
-#include "md5.hpp"
+#include "core/md5.hpp"
 
 namespace glintscope {
 namespace {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "embedded_data.hpp"
+#include "core/embedded_data.hpp"
 #include "glintscope/error.hpp"
 
 namespace glintscope {

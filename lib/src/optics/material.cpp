@@ -6,7 +6,7 @@
 #include <complex>
 #include <cstdio>
 
-#include "embedded_data.hpp"
+#include "core/embedded_data.hpp"
 #include "glintscope/error.hpp"
 
 namespace glintscope {

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <vector>
 
-#include "chirp_z.hpp"
+#include "numerics/chirp_z.hpp"
 
 namespace glintscope {
 namespace {

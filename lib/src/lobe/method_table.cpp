@@ -1,4 +1,4 @@
-#include "lobe_methods.hpp"
+#include "method_table.hpp"
 
 #include "glintscope/fft_lobe.hpp"
 #include "glintscope/gabor.hpp"

@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "fftw_plans.hpp"
+#include "numerics/fftw_plans.hpp"
 #include "glintscope/parallel.hpp"
 
 namespace glintscope {

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <numbers>
 
-#include "correlation_spectrum.hpp"
+#include "surface/correlation_spectrum.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/generate.hpp"
 #include "glintscope/parallel.hpp"
@@ -464,7 +464,7 @@ TEST(Recipe, BuiltinsHaveDocumentedSizes) {
 }
 
 TEST(Recipe, CanonicalRecipeFilesDescribeThePaperSurfaces) {
-    const std::filesystem::path directory = std::filesystem::path(__FILE__).parent_path() / "../../heightfields";
+    const std::filesystem::path directory = std::filesystem::path(GLINTSCOPE_SOURCE_DIR) / "heightfields";
     for (const std::string kind : {"isotropic", "brushed", "scratched"}) {
         const Recipe recipe = load_recipe((directory / (kind + ".recipe")).string());
         EXPECT_EQ(recipe.kind, kind);

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "md5.hpp"
+#include "core/md5.hpp"
 
 namespace glintscope {
 namespace {

@@ -9,7 +9,7 @@
 #include "glintscope/material.hpp"
 #include "glintscope/text_format.hpp"
 #include "glintscope/units.hpp"
-#include "lobe_methods.hpp"
+#include "method_table.hpp"
 
 namespace glintscope {
 namespace {
