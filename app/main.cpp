@@ -8,16 +8,19 @@
 #include "commands.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/parallel.hpp"
+#include "glintscope/version.hpp"
 
 int main(int argc, char** argv) {
-    CLI::App app{"glintscope: heightfields and their wave-optics reflection lobes.\n"
+    CLI::App app{"glintscope: heightfields, their reflection lobes and normal distributions.\n"
                  "Lengths are micrometres unless suffixed (0.5um, 500nm, 2mm); angles are degrees."};
     app.require_subcommand(1);
     // Usage errors are one line like every other error; exit status 2 marks them.
     app.failure_message([](const CLI::App*, const CLI::Error& e) {
         return std::string("glintscope: error: ") + e.what() + " (see --help)\n";
     });
-    app.set_version_flag("--version", "glintscope 0.1.0");
+    app.set_version_flag("--version", "glintscope " + glintscope::version());
+    // Subcommands pass options they do not know (--threads) up to the main command.
+    app.fallthrough();
     app.add_option_function<int>("--threads", [](int threads) { glintscope::set_thread_count(threads); },
                                  "Worker threads (default: all cores; results do not depend on it)")
         ->check(CLI::NonNegativeNumber)

@@ -1,7 +1,7 @@
 #include "options.hpp"
 
 #include "glintscope/error.hpp"
-#include "glintscope/generate.hpp"
+#include "glintscope/query_keys.hpp"
 #include "glintscope/units.hpp"
 
 namespace glintscope::cli {
@@ -65,9 +65,7 @@ void add_load_options(CLI::App& command, LoadOptions& options) {
 }
 
 Heightfield load_heightfield_argument(const std::string& argument, const LoadOptions& options) {
-    const std::string builtin_prefix = "builtin:";
-    if (argument.rfind(builtin_prefix, 0) == 0) return generate_builtin(argument.substr(builtin_prefix.size()));
-    return load_heightfield(argument, options);
+    return load_heightfield_source({argument, options});
 }
 
 }  // namespace glintscope::cli

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "glintscope/fft_lobe.hpp"
+#include "methods/fft/fft_lobe.hpp"
 #include "glintscope/generate.hpp"
 
 namespace {

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "glintscope/gabor.hpp"
+#include "methods/gabor/gabor.hpp"
 #include "glintscope/generate.hpp"
 
 namespace {

@@ -52,9 +52,9 @@ TEST(LobeCommand, FlatMirrorAlbedoIsOneByBothMethods) {
         EXPECT_EQ(spec.channelnames[0], "Y");
         EXPECT_EQ(spec.get_string_attribute("glintscope:method"), method);
         EXPECT_EQ(spec.get_string_attribute("glintscope:query.model"), "rohs");
-        EXPECT_EQ(spec.get_string_attribute("glintscope:query.wavelengths_um"), "0.5");
-        EXPECT_NEAR(std::stod(spec.get_string_attribute("glintscope:query.theta_i_deg")), 30.0, 1e-9);
-        EXPECT_NEAR(std::stod(spec.get_string_attribute("glintscope:query.phi_i_deg")), 45.0, 1e-9);
+        EXPECT_EQ(spec.get_string_attribute("glintscope:query.lambda"), "0.5");
+        EXPECT_NEAR(std::stod(spec.get_string_attribute("glintscope:info.theta_i_deg")), 30.0, 1e-9);
+        EXPECT_NEAR(std::stod(spec.get_string_attribute("glintscope:info.phi_i_deg")), 45.0, 1e-9);
     }
 }
 
@@ -89,11 +89,11 @@ TEST(LobeCommand, BadInputFailsInOneLineAndWritesNothing) {
     const std::vector<BadRequest> requests = {
         {{"lobe", directory.file("missing.exr"), "-o", out}, "missing.exr"},
         {{"lobe", holes, "-o", out}, "missing (NaN)"},
-        {{"lobe", field, "--method", "raytrace", "-o", out}, "unknown lobe method 'raytrace'"},
+        {{"lobe", field, "--method", "raytrace", "-o", out}, "unknown method 'raytrace'"},
         {{"lobe", field, "--res", "0", "-o", out}, "lobe resolution must be between 4 and 8192"},
         {{"lobe", field, "--sigma-c", "-1um", "-o", out}, "coherence sigma"},
         {{"lobe", field, "--sigma-c", "ten", "-o", out}, "'ten' is not a length"},
-        {{"lobe", field, "--res", "many", "-o", out}, "--res"},
+        {{"lobe", field, "--res", "many", "-o", out}, "query key res"},
         {{"lobe", field, "--incident", "95,0", "-o", out}, "theta must be in [0, 90)"},
         {{"lobe", field, "--lambda", "0", "-o", out}, "wavelength 0 um is outside"},
         {{"lobe", field, "--model", "mie", "-o", out}, "unknown diffraction model 'mie'"},

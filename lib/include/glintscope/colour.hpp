@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "glintscope/lobe.hpp"
+#include "glintscope/image.hpp"
 #include "glintscope/spectrum.hpp"
 
 namespace glintscope {

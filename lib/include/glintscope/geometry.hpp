@@ -1,8 +1,12 @@
 #pragma once
 // Directions and the projected-disk hemisphere map (conventions.md "Frames and images").
 #include <cmath>
+#include <numbers>
 
 namespace glintscope {
+
+// The one π of the library.
+inline constexpr double pi = std::numbers::pi;
 
 struct Vec3 {
     double x = 0.0;
@@ -30,6 +34,18 @@ struct DiskPoint {
     double y = 0.0;
 };
 DiskPoint disk_pixel_point(int row, int col, int resolution, double du = 0.0, double dv = 0.0);
+
+// Points strictly inside the unit disk hold directions (the rim is the horizon, of zero
+// projected area); pixels whose centre lies outside are 0.
+inline bool inside_unit_disk(DiskPoint p) { return p.x * p.x + p.y * p.y < 1.0; }
+
+// Supersampling, shared by every method so their images line up: sub-pixel a of K along an
+// axis sits at offset (a + ½)/K − ½ pixels, and a pixel is the plain mean of its K×K sub-pixels.
+inline double subpixel_offset(int a, int supersample) { return (a + 0.5) / supersample - 0.5; }
+inline DiskPoint disk_subpixel_point(int row, int col, int sub_row, int sub_col, int resolution, int supersample) {
+    return disk_pixel_point(row, col, resolution, subpixel_offset(sub_col, supersample),
+                            subpixel_offset(sub_row, supersample));
+}
 
 // The pixel area on the disk, (2/N)²: Σ f_r·(2/N)² over an outgoing image is the albedo.
 inline double disk_pixel_area(int resolution) { return 4.0 / (double(resolution) * resolution); }

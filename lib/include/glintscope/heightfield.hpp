@@ -3,9 +3,10 @@
 // Row 0 is the largest y ("map view"); sample (r, c) of an R-row grid sits at
 // s = ((c + 0.5)·dx, (R − r − 0.5)·dx). Missing points (profilometer drop-outs) are NaN.
 #include <cstddef>
-#include <map>
 #include <string>
 #include <vector>
+
+#include "glintscope/metadata.hpp"
 
 namespace glintscope {
 
@@ -13,10 +14,6 @@ struct Point2 {
     double x = 0.0;
     double y = 0.0;
 };
-
-// Where a heightfield came from and what was done to it, as ordered key/value text.
-// Written into every output's metadata (EXR header attributes, X3P record, JSON).
-using Provenance = std::map<std::string, std::string>;
 
 struct Heightfield {
     int rows = 0;

@@ -1,7 +1,8 @@
 #pragma once
-// One query describes a lobe; every method (fft, gabor, and later geometric, kirchhoff, stam,
-// discrete) answers it with the same image type. A method is a free function in its own file,
-// listed once in the method table (lib/src/lobe/method_table.cpp); adding one touches no other method.
+// One query describes a lobe or an NDF; every method (fft, gabor, and the geometric and other
+// methods that follow) answers it with the same image type (image.hpp). Methods are listed once
+// in the method table (lib/src/lobe/method_table.cpp); compute_lobe is the single place that
+// finds, checks, runs and labels them. Queries are written and read as text by query_keys.hpp.
 #include <map>
 #include <memory>
 #include <string>
@@ -10,6 +11,8 @@
 #include "glintscope/diffraction_model.hpp"
 #include "glintscope/geometry.hpp"
 #include "glintscope/heightfield.hpp"
+#include "glintscope/heightfield_io.hpp"
+#include "glintscope/image.hpp"
 #include "glintscope/interpolant.hpp"
 
 namespace glintscope {
@@ -17,7 +20,8 @@ namespace glintscope {
 enum class FootprintShape { gaussian, box };
 
 // The coherence footprint (conventions.md "Coherence / footprint"): a Gaussian
-// w(s) = exp(−|s − x_c|²/(2σ_c²)), A_c = πσ_c², or a box of side `size_um`.
+// w(s) = exp(−|s − x_c|²/(2σ_c²)), A_c = πσ_c², or a box of side `size_um`. Geometric methods
+// weigh the surface by |w|²/A_c: a normalised Gaussian of standard deviation σ_c/√2, or the box.
 struct Footprint {
     Point2 centre_um;
     double sigma_um = 10.0;
@@ -30,61 +34,74 @@ struct MaterialChoice {
     std::string name;
 };
 
+// Where the heightfield came from (a file with its load options, or builtin:KIND), so that any
+// output can be re-run from its metadata.
+struct HeightfieldSource {
+    std::string argument;
+    LoadOptions load;
+};
+
 struct LobeQuery {
     std::shared_ptr<const Heightfield> field;
-    std::shared_ptr<const BicubicInterpolant> surface;  // of `field`; built by make_surface_view
+    std::shared_ptr<const BicubicInterpolant> surface;  // of `field`; built by set_heightfield
+    HeightfieldSource source;
+    Quantity quantity = Quantity::brdf;   // brdf: pixel = ω_o; ndf: pixel = h
     Footprint footprint;
     Vec3 omega_i{0.0, 0.0, 1.0};          // toward the light, unit length, z > 0
     std::vector<double> wavelengths_um{0.5};
     DiffractionModel model = DiffractionModel::rohs;
     MaterialChoice material;
     int resolution = 256;                 // N of the N×N projected-disk image
-    int supersample = 1;                  // K×K sub-pixel average
+    int supersample = 1;                  // K×K sub-pixel average (geometry.hpp)
     // Method-specific settings by name (e.g. "kernels_per_texel" for gabor, "step" for fft);
-    // each method reads its own keys and rejects keys it does not know.
+    // compute_lobe rejects keys the method does not declare.
     std::map<std::string, std::string> method_options;
 };
-
-// Outgoing-direction image over the projected disk, one N×N layer per wavelength, row 0 at
-// the top (largest y); pixels outside the unit disk are 0. Values are f_r in sr⁻¹.
-struct LobeImage {
-    int resolution = 0;
-    std::vector<double> wavelengths_um;
-    std::vector<float> values;  // [layer][row][col]
-    Provenance metadata;        // the query and what the method chose (grid, kernels, ...)
-
-    float at(std::size_t layer, int row, int col) const {
-        return values[(layer * resolution + row) * static_cast<std::size_t>(resolution) + col];
-    }
-    float& at(std::size_t layer, int row, int col) {
-        return values[(layer * resolution + row) * static_cast<std::size_t>(resolution) + col];
-    }
-};
-
-LobeImage make_lobe_image(int resolution, const std::vector<double>& wavelengths_um);
 
 // Builds the shared interpolant for a field and fills query.field / query.surface.
 void set_heightfield(LobeQuery& query, Heightfield field);
 
-// Checks a query (directions, wavelengths, footprint inside reason, resolution, ...) and throws
+// Checks a query (directions, wavelengths, footprint, resolution, material, ...) and throws
 // Error with a one-line message naming the bad parameter.
 void validate(const LobeQuery& query);
 
-// The query as key/value text (for EXR metadata and JSON sidecars; enough to reproduce it).
-Provenance describe(const LobeQuery& query);
+// Physics warnings about a query for a method (e.g. a coherence blur below a pixel that
+// point-samples a wave lobe), one line each; empty when there is nothing to say.
+std::vector<std::string> query_warnings(const std::string& method, const LobeQuery& query);
 
-// Method-option helpers for methods: reject keys the method does not know, read numbers and
-// lengths (with unit suffixes) with defaults. Each throws Error naming the option.
-void check_method_options(const LobeQuery& query, const std::string& method, const std::vector<std::string>& known);
-double method_option_number(const LobeQuery& query, const std::string& key, double fallback);
-double method_option_length_um(const LobeQuery& query, const std::string& key, double fallback);
+// ---- Methods ------------------------------------------------------------------------------
 
-using LobeMethod = LobeImage (*)(const LobeQuery&);
+// Query fields a method may ignore; compute_lobe records them as not applicable.
+enum class QueryField { footprint, incident, wavelengths, model, material, supersample };
+std::string to_string(QueryField field);
 
-std::vector<std::string> lobe_method_names();
-std::string lobe_method_description(const std::string& name);
+struct MethodOption {
+    std::string key;   // e.g. "kernels_per_texel"
+    std::string help;  // one line, with the default
+};
 
-// Validates the query and runs the named method; throws Error for unknown names.
+struct MethodInfo {
+    std::string name;                 // e.g. "fft"
+    std::string description;          // one line
+    std::string reference;            // e.g. "Yan 2018 eq. 6"
+    std::vector<Quantity> quantities;  // what it can answer
+    std::vector<QueryField> ignored;   // query fields that do not affect its result
+    std::vector<MethodOption> options;
+    bool wave_optics = false;          // its lobes carry the coherence blur λ/(2πσ_c)
+
+    bool answers(Quantity quantity) const;
+};
+
+// Every method, in table order.
+std::vector<MethodInfo> lobe_methods();
+
+// The named method; throws Error listing the available ones for an unknown name.
+MethodInfo lobe_method(const std::string& name);
+
+// Validates the query, checks that the method answers its quantity and knows its options,
+// runs it, and writes the metadata: the query (query_keys.hpp), fields the method ignores as
+// "not applicable", "method", "method.reference" and "quantity". Errors from the method come
+// prefixed with its name.
 LobeImage compute_lobe(const std::string& method, const LobeQuery& query);
 
 }  // namespace glintscope

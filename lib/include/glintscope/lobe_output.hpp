@@ -1,6 +1,9 @@
 #pragma once
 // Writing lobe images (every file atomically, through atomic_output.hpp):
 //
+// Labels (channel names, units, legends, JSON keys) come from the image's quantity (image.hpp):
+// below, "Y" and f_r stand for a BRDF; an NDF image writes "D" and D.
+//
 // EXR (scene-linear, 32-bit float, zip): a single-wavelength lobe is one channel "Y" holding
 // f_r in sr⁻¹; a spectral lobe is R, G, B in the chosen linear colour space and, on request,
 // one channel per wavelength named after Fichet, Pacanowski & Wilkie 2021, "An OpenEXR Layout
@@ -23,7 +26,7 @@
 
 #include "glintscope/colour.hpp"
 #include "glintscope/geometry.hpp"
-#include "glintscope/lobe.hpp"
+#include "glintscope/image.hpp"
 
 namespace glintscope {
 
@@ -39,7 +42,7 @@ struct WavelengthSummary {
     int peak_row = 0;
     int peak_col = 0;
     Vec3 peak_direction;      // the direction at the centre of the peak pixel
-    double albedo = 0.0;      // Σ f_r (2/N)² = ∫ f_r cos θ_o dω_o
+    double disk_sum = 0.0;    // Σ value (2/N)²: the albedo ∫ f_r cos θ_o dω_o (brdf), 1 (ndf)
 };
 
 // Over the pixels inside the unit disk (outside it there are no directions), per wavelength.

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "glintscope/error.hpp"
+#include "glintscope/text_format.hpp"
 
 namespace glintscope {
 
@@ -16,6 +17,22 @@ std::string file_extension(const std::string& path) {
     if (!ext.empty() && ext.front() == '.') ext.erase(0, 1);
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
     return ext;
+}
+
+void check_output_path(const std::string& path, const std::vector<std::string>& extensions, const std::string& what) {
+    namespace fs = std::filesystem;
+    if (path.empty()) throw Error(what + ": no output file name given");
+    const std::string extension = file_extension(path);
+    if (std::find(extensions.begin(), extensions.end(), extension) == extensions.end())
+        throw Error(what + " '" + path + "': the file name must end in ." + join(extensions, " or ."));
+    const fs::path target(path);
+    const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(directory, ec))
+        throw Error(what + " '" + path + "': directory '" + directory.string() + "' does not exist");
+    if (fs::is_directory(target, ec)) throw Error(what + " '" + path + "': it is a directory");
+    if (::access(directory.c_str(), W_OK) != 0)
+        throw Error(what + " '" + path + "': directory '" + directory.string() + "' is not writable");
 }
 
 void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {

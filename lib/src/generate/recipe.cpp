@@ -6,12 +6,14 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <set>
 #include <sstream>
 
 #include "glintscope/error.hpp"
 #include "glintscope/generate.hpp"
+#include "glintscope/text_format.hpp"
 #include "glintscope/units.hpp"
 
 namespace glintscope {
@@ -26,44 +28,8 @@ constexpr std::size_t kMaxSamples = std::size_t{1} << 30;  // 4 GB of heights pl
 constexpr double kMaxScratches = 1e6;
 constexpr double kMaxBumps = 1e8;
 
-std::string_view trim(std::string_view text) {
-    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front()))) text.remove_prefix(1);
-    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.remove_suffix(1);
-    return text;
-}
-
-// Shortest text that reads back as the same double.
-std::string format_number(double value) {
-    char buffer[64];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    return std::string(buffer, result.ptr);
-}
-
-double parse_number(const std::string& text) {
-    const std::string_view trimmed = trim(text);
-    double value = 0.0;
-    const char* first = trimmed.data();
-    const char* last = first + trimmed.size();
-    if (first != last && *first == '+') ++first;
-    const auto [end, ec] = std::from_chars(first, last, value);
-    if (ec != std::errc() || end != last || first == last) throw Error("'" + text + "' is not a number");
-    if (!std::isfinite(value)) throw Error("'" + text + "' is not finite");
-    return value;
-}
-
-template <typename Integer>
-Integer parse_integer(const std::string& text) {
-    const std::string_view trimmed = trim(text);
-    Integer value = 0;
-    const auto [end, ec] = std::from_chars(trimmed.data(), trimmed.data() + trimmed.size(), value);
-    if (ec == std::errc::result_out_of_range) throw Error("'" + text + "' is out of range");
-    if (ec != std::errc() || end != trimmed.data() + trimmed.size() || trimmed.empty())
-        throw Error("'" + text + "' is not a whole number");
-    return value;
-}
-
 int parse_side(const std::string& text) {
-    const long long value = parse_integer<long long>(text);
+    const long long value = parse_integer(text, std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
     if (value < 1 || value > kMaxSide)
         throw Error("'" + text + "' is not a grid size between 1 and " + std::to_string(kMaxSide));
     return static_cast<int>(value);
@@ -114,14 +80,14 @@ KeyBinding length_key(const std::string& name, const std::string& description, c
                       const DoubleField& field) {
     return {{name, RecipeValueType::length, "um", description, kinds},
             [field](Recipe& recipe, const std::string& text) { field(recipe) = parse_length_um(text); },
-            [field](const Recipe& recipe) { return format_number(field(const_cast<Recipe&>(recipe))); }};
+            [field](const Recipe& recipe) { return shortest_text(field(const_cast<Recipe&>(recipe))); }};
 }
 
 KeyBinding number_key(const std::string& name, const std::string& unit, const std::string& description,
                       const std::vector<std::string>& kinds, const DoubleField& field) {
     return {{name, RecipeValueType::number, unit, description, kinds},
             [field](Recipe& recipe, const std::string& text) { field(recipe) = parse_number(text); },
-            [field](const Recipe& recipe) { return format_number(field(const_cast<Recipe&>(recipe))); }};
+            [field](const Recipe& recipe) { return shortest_text(field(const_cast<Recipe&>(recipe))); }};
 }
 
 // Degrees in text, radians in the recipe; %.12g hides the round trip's last-digit noise.
@@ -156,7 +122,7 @@ const std::vector<KeyBinding>& bindings() {
         length_key("texel", "sample spacing dx", kAllKinds, [](Recipe& r) -> double& { return r.grid.texel_um; }),
         {{"seed", RecipeValueType::integer, "", "random seed (same seed, same surface on any thread count)",
           kRandomKinds},
-         [](Recipe& r, const std::string& text) { r.seed = parse_integer<std::uint64_t>(text); },
+         [](Recipe& r, const std::string& text) { r.seed = parse_unsigned(text); },
          [](const Recipe& r) { return std::to_string(r.seed); }},
         choice_key<CorrelationFunction>(
             "correlation",
@@ -278,7 +244,7 @@ void validate_scratches(const Recipe& recipe) {
         throw Error("scratch_density must be a non-negative number per mm^2");
     const double area_mm2 = recipe.grid.cols * recipe.grid.rows * recipe.grid.texel_um * recipe.grid.texel_um * 1e-6;
     if (s.density_per_mm2 * area_mm2 > kMaxScratches)
-        throw Error("scratch_density " + format_number(s.density_per_mm2) + " per mm^2 asks for more than 10^6 scratches");
+        throw Error("scratch_density " + shortest_text(s.density_per_mm2) + " per mm^2 asks for more than 10^6 scratches");
     require_range("scratch_depth_min", s.depth_min_um, "scratch_depth_max", s.depth_max_um);
     require_range("scratch_width_min", s.width_min_um, "scratch_width_max", s.width_max_um);
     require_range("scratch_length_min", s.length_min_um, "scratch_length_max", s.length_max_um);
@@ -301,7 +267,7 @@ void validate_cd(const Recipe& recipe) {
     require_positive("bump_length", cd.bump_length_um);
     require_positive("track_spacing", cd.track_spacing_um);
     if (!(cd.bump_density_per_um > 0.0) || !std::isfinite(cd.bump_density_per_um))
-        throw Error("bump_density must be a positive number per um, got " + format_number(cd.bump_density_per_um));
+        throw Error("bump_density must be a positive number per um, got " + shortest_text(cd.bump_density_per_um));
     const double width = recipe.grid.cols * recipe.grid.texel_um;
     const double height = recipe.grid.rows * recipe.grid.texel_um;
     if (cd.bump_width_um > cd.track_spacing_um)
@@ -314,7 +280,7 @@ void validate_cd(const Recipe& recipe) {
         throw Error("bump_length (" + format_length(cd.bump_length_um) + ") is not shorter than the tile height (" +
                     format_length(height) + ")");
     if (cd.bump_density_per_um * height * std::floor(width / cd.track_spacing_um) > kMaxBumps)
-        throw Error("bump_density " + format_number(cd.bump_density_per_um) + " per um asks for more than 10^8 bumps");
+        throw Error("bump_density " + shortest_text(cd.bump_density_per_um) + " per um asks for more than 10^8 bumps");
 }
 
 bool near_integer(double value) { return std::fabs(value - std::round(value)) < 1e-6; }
@@ -454,8 +420,8 @@ std::string seamless_warning(const Recipe& recipe) {
         const double periods_x = width * std::cos(recipe.grating.angle_rad) / recipe.grating.period_um;
         const double periods_y = height * std::sin(recipe.grating.angle_rad) / recipe.grating.period_um;
         if (!near_integer(periods_x) || !near_integer(periods_y))
-            return "the grating is not seamless: the tile holds " + format_number(std::fabs(periods_x)) + " x " +
-                   format_number(std::fabs(periods_y)) + " periods along x and y, not whole numbers";
+            return "the grating is not seamless: the tile holds " + shortest_text(std::fabs(periods_x)) + " x " +
+                   shortest_text(std::fabs(periods_y)) + " periods along x and y, not whole numbers";
     }
     if (recipe.kind == "cd" && !near_integer(width / recipe.cd.track_spacing_um))
         return "the cd tracks are not seamless: the tile width " + format_length(width) +

@@ -99,8 +99,7 @@ std::string find_space(const OCIO::ConstConfigRcPtr& config, const ColourSetting
 }
 
 bool inside_disk(int row, int col, int resolution) {
-    const DiskPoint p = disk_pixel_point(row, col, resolution);
-    return p.x * p.x + p.y * p.y <= 1.0;
+    return inside_unit_disk(disk_pixel_point(row, col, resolution));
 }
 
 void check_lobe(const LobeImage& lobe) {

@@ -29,28 +29,12 @@ std::string one_line(std::string text) {
     return text.empty() ? "unknown error" : text;
 }
 
-std::string shortest_list(const std::vector<double>& values) {
-    std::string text;
-    for (std::size_t i = 0; i < values.size(); ++i) {
-        if (i > 0) text += ',';
-        text += shortest_text(values[i]);
-    }
-    return text;
-}
-
 std::vector<double> parse_list(const std::string& text, const std::string& path) {
-    std::vector<double> values;
-    const char* p = text.data();
-    const char* end = text.data() + text.size();
-    while (p < end) {
-        double value = 0.0;
-        const auto [next, ec] = std::from_chars(p, end, value);
-        if (ec != std::errc() || (next != end && *next != ','))
-            throw Error("cannot read lobe '" + path + "': invalid wavelength list '" + text + "'");
-        values.push_back(value);
-        p = next == end ? end : next + 1;
+    try {
+        return parse_number_list(text);
+    } catch (const Error&) {
+        throw Error("cannot read lobe '" + path + "': invalid wavelength list '" + text + "'");
     }
-    return values;
 }
 
 void check_lobe(const LobeImage& lobe) {
@@ -69,8 +53,9 @@ void check_colormap_option(const std::string& name) {
 // The writer's own facts, in the reserved "output." namespace.
 Provenance output_facts(const LobeImage& lobe, const LobeOutputOptions& options, const std::string& channels) {
     Provenance facts;
-    facts["output.units"] = "sr^-1";
-    facts["output.wavelengths_um"] = shortest_list(lobe.wavelengths_um);
+    facts["output.units"] = labels(lobe.quantity).units;
+    facts["output.quantity"] = to_string(lobe.quantity);
+    facts["output.wavelengths_um"] = join_numbers(lobe.wavelengths_um);
     facts["output.channels"] = channels;
     facts["output.image"] = "projected-disk map, row 0 = largest y, pixels outside the unit disk are 0";
     if (is_spectral(lobe)) {
@@ -118,22 +103,24 @@ DisplayExposure write_colormap_png(const LobeImage& lobe, const std::string& pat
     image.values.resize(std::size_t(n) * n);
     ColorLegend legend;
     legend.map = parse_colormap(options.colormap);
-    const std::string at = " at " + shortest_text(lobe.wavelengths_um[0]) + " um";
+    const QuantityLabels& label = labels(lobe.quantity);
+    const std::string value = label.symbol + (label.units == "1" ? "" : " [" + label.units + "]");
+    const std::string at = lobe.quantity == Quantity::brdf ? " at " + shortest_text(lobe.wavelengths_um[0]) + " um" : "";
     if (exposure.log_scale) {
         legend.max_value = std::log10(exposure.white_level);
         legend.min_value = legend.max_value - exposure.log_decades;
-        legend.label = "log10 f_r [sr^-1]" + at;
+        legend.label = "log10 " + value + at;
     } else {
         legend.min_value = 0.0;
         legend.max_value = exposure.white_level;
-        legend.label = "f_r [sr^-1]" + at;
+        legend.label = value + at;
     }
     for (int row = 0; row < n; ++row)
         for (int col = 0; col < n; ++col) {
             const DiskPoint p = disk_pixel_point(row, col, n);
             const float value = lobe.at(0, row, col);
             float shown = std::numeric_limits<float>::quiet_NaN();  // outside the disk: no direction
-            if (p.x * p.x + p.y * p.y <= 1.0 && std::isfinite(value))
+            if (inside_unit_disk(p) && std::isfinite(value))
                 shown = !exposure.log_scale ? value
                         : value > 0.0f      ? float(std::max(std::log10(double(value)), legend.min_value))
                                             : float(legend.min_value);
@@ -159,7 +146,7 @@ std::vector<WavelengthSummary> summarize_lobe(const LobeImage& lobe) {
             for (int col = 0; col < n; ++col) {
                 const DiskPoint p = disk_pixel_point(row, col, n);
                 const float value = lobe.at(layer, row, col);
-                if (p.x * p.x + p.y * p.y > 1.0 || !std::isfinite(value)) continue;
+                if (!inside_unit_disk(p) || !std::isfinite(value)) continue;
                 total += value;
                 if (value > summary.peak_value) {
                     summary.peak_value = value;
@@ -170,7 +157,7 @@ std::vector<WavelengthSummary> summarize_lobe(const LobeImage& lobe) {
         if (!std::isfinite(summary.peak_value)) summary.peak_value = 0.0f;
         const DiskPoint p = disk_pixel_point(summary.peak_row, summary.peak_col, n);
         summary.peak_direction = direction_from_disk(p.x, p.y);
-        summary.albedo = total * disk_pixel_area(n);  // conventions.md: Σ f_r (2/N)² is ∫ f_r cos θ_o dω_o
+        summary.disk_sum = total * disk_pixel_area(n);  // conventions.md: Σ f_r (2/N)² is ∫ f_r cos θ_o dω_o
         summaries.push_back(summary);
     }
     return summaries;
@@ -194,9 +181,10 @@ void write_lobe_exr(const LobeImage& lobe, const std::string& path, const LobeOu
     std::vector<float> interleaved;
     Provenance facts;
     if (!is_spectral(lobe)) {
-        names = {"Y"};
+        const QuantityLabels& label = labels(lobe.quantity);
+        names = {label.channel};
         interleaved = lobe.values;
-        facts = output_facts(lobe, options, "Y = f_r [sr^-1] at the single wavelength");
+        facts = output_facts(lobe, options, label.channel + " = " + label.description);
     } else {
         const std::vector<float> rgb = lobe_to_rgb(lobe, options.colour);
         names = {"R", "G", "B"};
@@ -210,7 +198,8 @@ void write_lobe_exr(const LobeImage& lobe, const std::string& path, const LobeOu
                 interleaved[i * channels + layer] = lobe.values[(layer - 3) * pixels + i];
         }
         std::string description = "R, G, B linear " + options.colour.output_space;
-        if (options.spectral_channels) description += "; S0.<nm> = f_r [sr^-1] per wavelength (Fichet et al. 2021)";
+        if (options.spectral_channels)
+            description += "; S0.<nm> = " + labels(lobe.quantity).symbol + " per wavelength (Fichet et al. 2021)";
         facts = output_facts(lobe, options, description);
         facts["output.colour_space"] = options.colour.output_space;
     }
@@ -255,7 +244,8 @@ void write_lobe_json(const LobeImage& lobe, const std::string& path, const LobeO
     std::string json = "{\n";
     json += "  \"format\": \"glintscope lobe\",\n";
     json += "  \"resolution\": " + std::to_string(lobe.resolution) + ",\n";
-    json += "  \"units\": \"sr^-1\",\n";
+    json += "  \"quantity\": " + json_string(to_string(lobe.quantity)) + ",\n";
+    json += "  \"units\": " + json_string(labels(lobe.quantity).units) + ",\n";
     json += "  \"wavelengths_um\": " + json_numbers(lobe.wavelengths_um) + ",\n";
     json += "  \"summary\": [\n";
     const std::vector<WavelengthSummary> summaries = summarize_lobe(lobe);
@@ -267,7 +257,7 @@ void write_lobe_json(const LobeImage& lobe, const std::string& path, const LobeO
                 std::to_string(s.peak_col) + "], \"peak_direction\": " + json_numbers({d.x, d.y, d.z}) +
                 ", \"peak_theta_deg\": " + json_number(std::acos(std::clamp(d.z, -1.0, 1.0)) * 180.0 / std::numbers::pi) +
                 ", \"peak_phi_deg\": " + json_number(std::atan2(d.y, d.x) * 180.0 / std::numbers::pi) +
-                ", \"albedo\": " + json_number(s.albedo) + "}" + (i + 1 < summaries.size() ? "," : "") + "\n";
+                ", \"" + labels(lobe.quantity).sum_name + "\": " + json_number(s.disk_sum) + "}" + (i + 1 < summaries.size() ? "," : "") + "\n";
     }
     json += "  ],\n";
     json += "  \"colour\": {\n";
@@ -277,7 +267,7 @@ void write_lobe_json(const LobeImage& lobe, const std::string& path, const LobeO
     json += "    \"png_colour_space\": " + json_string(is_spectral(lobe) || options.colormap == "grey"
                                                          ? colour.display_space
                                                          : "colour map " + options.colormap) + ",\n";
-    if (is_spectral(lobe)) json += "    \"luminance_albedo\": " + json_number(luminance_albedo(lobe, colour.illuminant)) + ",\n";
+    if (is_spectral(lobe)) json += "    \"luminance_" + labels(lobe.quantity).sum_name + "\": " + json_number(luminance_albedo(lobe, colour.illuminant)) + ",\n";
     json += "    \"png_exposure_ev\": " + json_number(exposure.ev) + ",\n";
     json += "    \"png_white_level\": " + json_number(exposure.white_level) + ",\n";
     json += "    \"png_exposure_rule\": " + json_string(exposure.rule) + ",\n";
@@ -322,17 +312,20 @@ LobeImage load_lobe_exr(const std::string& path) {
     const OIIO::ParamValue* wavelengths = spec.find_attribute(wavelengths_key, OIIO::TypeDesc::STRING);
     if (!wavelengths) throw Error("cannot read lobe '" + path + "': no " + wavelengths_key + " attribute");
 
-    LobeImage lobe = make_lobe_image(spec.width, parse_list(wavelengths->get_string(), path));
+    const OIIO::ParamValue* quantity =
+        spec.find_attribute(std::string(attribute_prefix) + "output.quantity", OIIO::TypeDesc::STRING);
+    LobeImage lobe = make_lobe_image(spec.width, parse_list(wavelengths->get_string(), path),
+                                     quantity ? parse_quantity(quantity->get_string()) : Quantity::brdf);
     std::vector<int> channels;
     if (lobe.wavelengths_um.size() == 1) {
-        channels.push_back(spec.channelindex("Y"));
+        channels.push_back(spec.channelindex(labels(lobe.quantity).channel));
     } else {
         for (double lambda : lobe.wavelengths_um) channels.push_back(spec.channelindex(spectral_channel_name(lambda)));
     }
     for (int channel : channels)
         if (channel < 0)
             throw Error("cannot read lobe '" + path + "': it has no per-wavelength channels (" +
-                        (lobe.wavelengths_um.size() == 1 ? "Y" : "S0.<nm>") +
+                        (lobe.wavelengths_um.size() == 1 ? labels(lobe.quantity).channel : "S0.<nm>") +
                         "); write spectral lobes with spectral channels to read them back");
     const std::size_t pixels = std::size_t(spec.width) * spec.height;
     std::vector<float> all(pixels * spec.nchannels);

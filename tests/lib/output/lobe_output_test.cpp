@@ -128,7 +128,7 @@ TEST_F(LobeOutput, SummaryFindsThePeakAndTheAlbedo) {
     lobe.at(1, 40, 200) = 5.0f;
     const std::vector<WavelengthSummary> summary = summarize_lobe(lobe);
     ASSERT_EQ(summary.size(), 2u);
-    EXPECT_NEAR(summary[0].albedo, rho, 2e-3);
+    EXPECT_NEAR(summary[0].disk_sum, rho, 2e-3);
     EXPECT_EQ(summary[1].peak_value, 5.0f);
     EXPECT_EQ(summary[1].peak_row, 40);
     EXPECT_EQ(summary[1].peak_col, 200);
@@ -136,7 +136,7 @@ TEST_F(LobeOutput, SummaryFindsThePeakAndTheAlbedo) {
     EXPECT_NEAR(summary[1].peak_direction.x, p.x, 1e-12);
     EXPECT_NEAR(summary[1].peak_direction.y, p.y, 1e-12);
     EXPECT_NEAR(summary[1].peak_direction.z, std::sqrt(1.0 - p.x * p.x - p.y * p.y), 1e-12);
-    EXPECT_NEAR(summary[1].albedo - summary[0].albedo, (5.0 - rho / std::numbers::pi) * 4.0 / (n * n), 1e-9);
+    EXPECT_NEAR(summary[1].disk_sum - summary[0].disk_sum, (5.0 - rho / std::numbers::pi) * 4.0 / (n * n), 1e-9);
 }
 
 TEST_F(LobeOutput, JsonSidecarCarriesMetadataWavelengthsAndSummary) {

@@ -1,4 +1,4 @@
-#include "glintscope/fft_lobe.hpp"
+#include "fft_lobe.hpp"
 
 #include <algorithm>
 #include <climits>
@@ -13,6 +13,7 @@
 #include "glintscope/error.hpp"
 #include "glintscope/material.hpp"
 #include "glintscope/parallel.hpp"
+#include "glintscope/text_format.hpp"
 
 namespace glintscope {
 namespace {
@@ -21,12 +22,6 @@ namespace {
 constexpr int kMaxSamplesPerAxis = 16384;
 constexpr std::size_t kMaxSamples = std::size_t(1) << 23;  // ≤ ~0.6 GB of per-sample arrays
 constexpr int kMaxXi3Slices = 4096;
-
-std::string format_number(double value) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.6g", value);
-    return buffer;
-}
 
 struct FftSettings {
     double step_um = 0.0;  // 0: chosen per wavelength and axis
@@ -37,7 +32,6 @@ struct FftSettings {
 };
 
 FftSettings read_settings(const LobeQuery& query) {
-    check_method_options(query, "fft", {"step", "window", "guard", "oversampling", "phase_error"});
     FftSettings settings;
     if (query.method_options.count("step")) {
         settings.step_um = method_option_length_um(query, "step", 0.0);
@@ -47,23 +41,20 @@ FftSettings read_settings(const LobeQuery& query) {
     settings.window_sigmas = method_option_number(query, "window", settings.window_sigmas);
     if (!(settings.window_sigmas >= 1.0 && settings.window_sigmas <= 20.0))
         throw Error("option window must be between 1 and 20 coherence sigmas, got " +
-                    format_number(settings.window_sigmas));
+                    shortest_text(settings.window_sigmas));
     const bool box = query.footprint.shape == FootprintShape::box;
     settings.guard_widths = method_option_number(query, "guard", box ? 32.0 : 6.0);
     if (!(settings.guard_widths >= 1.0 && settings.guard_widths <= 1000.0))
         throw Error("option guard must be between 1 and 1000 footprint spectral widths, got " +
-                    format_number(settings.guard_widths));
+                    shortest_text(settings.guard_widths));
     settings.oversampling = method_option_number(query, "oversampling", settings.oversampling);
     if (!(settings.oversampling >= 1.0 && settings.oversampling <= 100.0))
-        throw Error("option oversampling must be between 1 and 100, got " + format_number(settings.oversampling));
+        throw Error("option oversampling must be between 1 and 100, got " + shortest_text(settings.oversampling));
     settings.phase_error = method_option_number(query, "phase_error", settings.phase_error);
     if (!(settings.phase_error > 0.0 && settings.phase_error <= 1.0))
-        throw Error("option phase_error must be in (0, 1], got " + format_number(settings.phase_error));
+        throw Error("option phase_error must be in (0, 1], got " + shortest_text(settings.phase_error));
     return settings;
 }
-
-// The sub-pixel offset of sample a of K along one pixel side, in pixels: a regular K-point grid.
-double subpixel_offset(int a, int supersample) { return (a + 0.5) / supersample - 0.5; }
 
 // One sub-row b of the K×K supersampling: N rows × K·N columns, column m = c·K + a being
 // sub-column a of pixel column c. Positions are regular along rows and columns, so ψ̄/λ is too.
@@ -86,7 +77,7 @@ SubpixelGrid subpixel_grid(int resolution, int supersample, int sub_row) {
             const DiskPoint p = disk_pixel_point(r, m / supersample, resolution,
                                                  subpixel_offset(m % supersample, supersample), dv);
             const std::size_t i = static_cast<std::size_t>(r) * grid.cols + m;
-            grid.inside[i] = p.x * p.x + p.y * p.y < 1.0;
+            grid.inside[i] = inside_unit_disk(p);
             grid.omega_o[i] = direction_from_disk(p.x, p.y);
         }
     return grid;
@@ -333,11 +324,7 @@ void fill_layer(const WavelengthSetup& setup, const FootprintExtent& extent, Lob
         add_subpixel_values(setup, grid, transformed_field(setup, grid, along_x, along_y), extent.area_um2,
                             pixel_sums);
     }
-    const double inverse_count = 1.0 / (double(supersample) * supersample);
-    for (int r = 0; r < resolution; ++r)
-        for (int c = 0; c < resolution; ++c)
-            image.at(layer, r, c) =
-                static_cast<float>(pixel_sums[static_cast<std::size_t>(r) * resolution + c] * inverse_count);
+    store_subpixel_means(image, layer, pixel_sums, supersample);
 }
 
 // What the method chose for each wavelength, as metadata lists (one entry per layer, ';'-separated).
@@ -346,12 +333,12 @@ struct GridRecord {
 
     void add(const WavelengthSetup& setup) {
         const FootprintSamples& samples = setup.samples;
-        steps.push_back(format_number(samples.x.step_um) + "," + format_number(samples.y.step_um));
+        steps.push_back(shortest_text(samples.x.step_um) + "," + shortest_text(samples.y.step_um));
         grids.push_back(std::to_string(samples.x.count) + "x" + std::to_string(samples.y.count));
-        slopes.push_back(format_number(samples.max_slope_x) + "," + format_number(samples.max_slope_y));
+        slopes.push_back(shortest_text(samples.max_slope_x) + "," + shortest_text(samples.max_slope_y));
         slices.push_back(setup.slices.nodes_per_unit ? std::to_string(setup.slices.count()) + " at spacing 1/" +
                                                            std::to_string(setup.slices.nodes_per_unit)
-                                                     : "1 (xi3 = " + format_number(setup.slices.constant_xi3) + ")");
+                                                     : "1 (xi3 = " + shortest_text(setup.slices.constant_xi3) + ")");
     }
 
     static std::string join(const std::vector<std::string>& parts) {
@@ -364,7 +351,6 @@ struct GridRecord {
 }  // namespace
 
 LobeImage fft_lobe(const LobeQuery& query) {
-    validate(query);
     const FftSettings settings = read_settings(query);
     const FootprintExtent extent = footprint_extent(query.footprint, settings.window_sigmas);
     // ξ3 over the image: 2, or ψ·n = cos θ_i + cos θ_o with cos θ_o ∈ (0, 1].
@@ -391,11 +377,27 @@ LobeImage fft_lobe(const LobeQuery& query) {
     image.metadata["fft.grid"] = GridRecord::join(record.grids);
     image.metadata["fft.max_slope"] = GridRecord::join(record.slopes);
     image.metadata["fft.xi3_slices"] = GridRecord::join(record.slices);
-    image.metadata["fft.half_width_um"] = format_number(extent.half_width_um);
-    image.metadata["fft.guard_widths"] = format_number(settings.guard_widths);
-    image.metadata["fft.oversampling"] = format_number(settings.oversampling);
-    if (varying_xi3) image.metadata["fft.phase_error"] = format_number(settings.phase_error);
+    image.metadata["fft.half_width_um"] = shortest_text(extent.half_width_um);
+    image.metadata["fft.guard_widths"] = shortest_text(settings.guard_widths);
+    image.metadata["fft.oversampling"] = shortest_text(settings.oversampling);
+    if (varying_xi3) image.metadata["fft.phase_error"] = shortest_text(settings.phase_error);
     return image;
+}
+
+MethodEntry fft_method() {
+    return {{"fft",
+             "ground truth: R* on a fine grid over the footprint, exact chirp-z transform at every pixel",
+             "Yan 2018 eq. 6",
+             {Quantity::brdf},
+             {},
+             {{"step", "grid step, a length (default: alias-free per wavelength and axis)"},
+              {"window", "Gaussian footprint: sampled half-width in sigma_c (default 4)"},
+              {"guard", "spectral margin in footprint spectral widths (default 6 for a Gaussian, 32 for a box)"},
+              {"oversampling", "step oversampling beyond the alias-free bound, for the C1 interpolant (default 3)"},
+              {"phase_error", "GHS, R-GHS, Kirchhoff: xi3 interpolation error bound, in flat-mirror peak amplitudes "
+                              "(default 0.01)"}},
+             true},
+            fft_lobe};
 }
 
 }  // namespace glintscope

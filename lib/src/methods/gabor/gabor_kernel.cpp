@@ -4,7 +4,7 @@
 #include <string>
 
 #include "glintscope/error.hpp"
-#include "glintscope/gabor.hpp"
+#include "gabor.hpp"
 
 namespace glintscope {
 namespace {
@@ -59,7 +59,6 @@ void validate(const GaborSettings& settings) {
 }
 
 GaborSettings gabor_settings(const LobeQuery& query) {
-    check_method_options(query, "gabor", {"kernels_per_texel", "footprint_truncation", "kernel_truncation"});
     GaborSettings settings;
     const double density = method_option_number(query, "kernels_per_texel", settings.kernels_per_texel);
     // The kernel grid must tile the periodic heightfield, so K is a whole number.

@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "glintscope/gabor.hpp"
+#include "gabor.hpp"
 #include "glintscope/material.hpp"
 
 namespace glintscope::gabor {

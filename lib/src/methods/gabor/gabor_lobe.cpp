@@ -10,7 +10,7 @@
 
 #include "gabor_kernels.hpp"
 #include "gabor_product.hpp"
-#include "glintscope/gabor.hpp"
+#include "gabor.hpp"
 #include "glintscope/parallel.hpp"
 
 namespace glintscope {
@@ -99,16 +99,13 @@ struct SampleGrid {
     int supersample = 1;
 
     int size() const { return resolution * supersample; }
-    double offset(int m) const { return (m % supersample + 0.5) / supersample - 0.5; }
     DiskPoint point(int row, int col) const {
-        return disk_pixel_point(row / supersample, col / supersample, resolution, offset(col), offset(row));
+        return disk_subpixel_point(row / supersample, col / supersample, row % supersample, col % supersample,
+                                   resolution, supersample);
     }
     double x(int col) const { return point(0, col).x; }
     double y(int row) const { return point(row, 0).y; }
-    bool inside_disk(int row, int col) const {
-        const DiskPoint p = point(row, col);
-        return p.x * p.x + p.y * p.y < 1.0;
-    }
+    bool inside_disk(int row, int col) const { return inside_unit_disk(point(row, col)); }
 };
 
 struct LayerSetup {
@@ -134,7 +131,7 @@ void per_sample_layer(const LayerSetup& layer, const FootprintKernels& kernels, 
         for (int row = static_cast<int>(begin); row < static_cast<int>(end); ++row)
             for (int col = 0; col < m; ++col) {
                 const DiskPoint p = samples.point(row, col);
-                if (p.x * p.x + p.y * p.y >= 1.0) continue;
+                if (!inside_unit_disk(p)) continue;
                 const gabor::TransformPoint point = transform_at(layer, p);
                 std::complex<double> field = 0.0;
                 for (const FootprintKernels::Block& block : kernels.blocks)
@@ -304,7 +301,7 @@ void product_tile(const LayerSetup& layer, const AxisTable& along_x, const AxisT
     for (int r = 0; r < rows; ++r)
         for (int c = 0; c < cols; ++c) {
             const DiskPoint p = samples.point(row0 + r, col0 + c);
-            if (p.x * p.x + p.y * p.y >= 1.0) continue;
+            if (!inside_unit_disk(p)) continue;
             const std::size_t i = static_cast<std::size_t>(r) * gabor::kTileCols + c;
             const double intensity = u_re[i] * u_re[i] + u_im[i] * u_im[i];
             sums[static_cast<std::size_t>(row0 + r) * m + col0 + c] = transform_at(layer, p).brdf_scale * intensity;
@@ -372,6 +369,7 @@ LobeImage gabor_lobe(const LobeQuery& query) {
     const SampleGrid samples{query.resolution, query.supersample};
     const int m = samples.size();
     std::vector<double> sums(static_cast<std::size_t>(m) * m);
+    std::vector<double> pixel_sums(static_cast<std::size_t>(query.resolution) * query.resolution);
     ProductTables tables;
     for (std::size_t layer = 0; layer < query.wavelengths_um.size(); ++layer) {
         const double lambda = query.wavelengths_um[layer];
@@ -389,8 +387,9 @@ LobeImage gabor_lobe(const LobeQuery& query) {
                 double total = 0.0;
                 for (int b = 0; b < s; ++b)
                     for (int a = 0; a < s; ++a) total += sums[static_cast<std::size_t>(r * s + b) * m + c * s + a];
-                image.at(layer, r, c) = static_cast<float>(total / (s * s));
+                pixel_sums[static_cast<std::size_t>(r) * query.resolution + c] = total;
             }
+        store_subpixel_means(image, layer, pixel_sums, s);
     }
 
     image.metadata["gabor.kernels_per_texel"] = std::to_string(settings.kernels_per_texel);
@@ -403,6 +402,19 @@ LobeImage gabor_lobe(const LobeQuery& query) {
     image.metadata["gabor.evaluation"] =
         per_sample ? "per sample over pruned kernel blocks" : "banded separable matrix product";
     return image;
+}
+
+MethodEntry gabor_method() {
+    return {{"gabor",
+             "Gabor kernels, one per cell of a regular grid, summed in closed form (default K = 2 per texel)",
+             "Yan 2018 §4-5, eq. 16-17",
+             {Quantity::brdf},
+             {},
+             {{"kernels_per_texel", "kernels per texel side K, an integer 1-16 (default 2)"},
+              {"footprint_truncation", "drop kernels beyond this many sigma_c from the centre (default 3.25)"},
+              {"kernel_truncation", "cut each kernel's transform at this many of its sigmas (default 3)"}},
+             true},
+            gabor_lobe};
 }
 
 }  // namespace glintscope

@@ -12,7 +12,7 @@
 
 #include "gabor_kernels.hpp"
 #include "glintscope/error.hpp"
-#include "glintscope/gabor.hpp"
+#include "gabor.hpp"
 #include "glintscope/parallel.hpp"
 
 namespace glintscope {

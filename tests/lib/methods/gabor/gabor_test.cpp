@@ -12,8 +12,9 @@
 
 #include "methods/gabor/gabor_kernels.hpp"
 #include "glintscope/error.hpp"
-#include "glintscope/fft_lobe.hpp"
-#include "glintscope/gabor.hpp"
+#include "methods/fft/fft_lobe.hpp"
+#include "glintscope/compare.hpp"
+#include "methods/gabor/gabor.hpp"
 #include "glintscope/generate.hpp"
 #include "glintscope/material.hpp"
 #include "glintscope/parallel.hpp"
@@ -41,15 +42,9 @@ LobeQuery isotropic_query(int resolution) {
     return query;
 }
 
+// The number `validate` reports: relative L2 over the disk (single-wavelength images).
 double relative_l2(const LobeImage& image, const LobeImage& reference) {
-    double difference = 0.0;
-    double norm = 0.0;
-    for (std::size_t i = 0; i < image.values.size(); ++i) {
-        const double d = double(image.values[i]) - reference.values[i];
-        difference += d * d;
-        norm += double(reference.values[i]) * reference.values[i];
-    }
-    return std::sqrt(difference / norm);
+    return compare_lobes(image, reference).at(0).relative_l2;
 }
 
 Vec3 pixel_direction(int row, int col, int resolution) {

@@ -20,10 +20,13 @@
 //   phase_error  GHS, R-GHS, Kirchhoff: bound ε on the ξ3 interpolation error, in units of a flat
 //                mirror's peak amplitude ∫|w| ds (default 0.01).
 // The metadata records per wavelength "fft.step_um", "fft.grid", "fft.xi3_slices".
-#include "glintscope/lobe.hpp"
+#include "lobe/method.hpp"
 
 namespace glintscope {
 
 LobeImage fft_lobe(const LobeQuery& query);
+
+// The method-table entry: "fft", Yan 2018 eq. 6, brdf, the options above.
+MethodEntry fft_method();
 
 }  // namespace glintscope

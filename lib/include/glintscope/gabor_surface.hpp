@@ -1,19 +1,15 @@
 #pragma once
-// Wave-optics lobes from Gabor kernels (Yan, Hašan, Walter, Marschner, Ramamoorthi 2018, §4–5).
+// Point queries of wave-optics lobes from Gabor kernels, for renderers (Yan, Hašan, Walter,
+// Marschner, Ramamoorthi 2018, §4–5): f_r(ω_i, ω_o, λ) of one footprint at a time, pruned by a
+// hierarchy over the kernel grid. Whole images come from compute_lobe("gabor", query) (lobe.hpp),
+// which shares these definitions.
 //
 // The reflection function R*(s) = w(s − x_c) ξ2 e^{−i2π ξ3 H(s)/λ} is approximated by one Gabor
 // kernel per cell of a regular grid of spacing l = dx/K (K = kernels per texel along each axis),
 // centred at the cell centre m_k, of width σ_k = l/2, with H(m_k) and H'(m_k) from the shared
-// BicubicInterpolant (eq. 9–15). Each kernel's Fourier transform is a Gaussian times a plane
-// wave, so the BRDF is a short sum (eq. 16–17):
+// BicubicInterpolant (Yan 2018 eq. 9–15). Each kernel's Fourier transform is a Gaussian times a
+// plane wave, so the BRDF is a short sum (Yan 2018 eq. 16–17):
 //   f_r(ω_i, ω_o) ≈ ξ1/A_c |Σ_k w_k C_k F[g_k](ψ̄/λ)|²,   ξ1 including F/λ².
-// Kernels are kept within `footprint_sigmas` σ_c of x_c (a box footprint keeps the kernels
-// inside the box), and each kernel's transform is cut to the box |v + a_k| ≤ kernel_sigmas ·
-// 1/(2πσ_k) in each axis (Yan 2018 §5 "Acceleration by pruning").
-//
-// Two evaluators share these definitions: gabor_lobe (whole images; a lobe-method table entry)
-// and GaborSurface (point queries for renderers, with the pruning hierarchy of §5).
-#include <complex>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -28,31 +24,6 @@ namespace glintscope {
 namespace gabor {
 class KernelArrays;
 }
-
-// ---- One Gabor kernel (Yan 2018 §4.1) -----------------------------------------------------
-
-// g(s; μ, σ, a) = G_2D(s; μ, σ) e^{−i2π a·s}, G_2D the normalised isotropic Gaussian (eq. 7).
-struct GaborKernel {
-    Point2 centre_um;         // μ
-    double sigma_um = 0.5;    // σ
-    Point2 frequency;         // a, cycles/µm
-};
-
-// g(s) (eq. 7).
-std::complex<double> gabor_kernel_value(const GaborKernel& kernel, Point2 s_um);
-
-// F[g](v) = ∫ g(s) e^{−i2π s·v} ds = e^{−i2π μ·(v + a)} e^{−2π²σ²|v + a|²}: eq. 8 with the centre
-// μ in the phase (the paper prints a·(v + a), a misprint: conventions.md).
-std::complex<double> gabor_kernel_transform(const GaborKernel& kernel, Point2 v);
-
-// The kernel that stands for the cell of side l centred at m (eq. 13–15): R_k(s) ≈ C_k g(s; m, l/2, a_k)
-// with C_k = l² ξ2 e^{−i2π ξ3 (H(m) − H'(m)·m)/λ} (eq. 14) and a_k = ξ3 H'(m)/λ (eq. 15).
-struct GaborCellKernel {
-    std::complex<double> coefficient;  // C_k
-    GaborKernel kernel;
-};
-GaborCellKernel gabor_cell_kernel(Point2 centre_um, double cell_um, const SurfacePoint& surface_at_centre,
-                                  double xi2, double xi3, double lambda_um);
 
 // ---- Settings shared by images and point queries -----------------------------------------
 
@@ -71,19 +42,6 @@ struct GaborSettings {
 // Throws Error naming the setting when it is out of range (K in 1..16, footprint truncation in
 // 1..8, kernel truncation in 1..5).
 void validate(const GaborSettings& settings);
-
-// The settings a lobe query asks for, from its method options "kernels_per_texel" (an integer),
-// "footprint_truncation" and "kernel_truncation" (in σ), each defaulting as above. Throws Error
-// for unknown options or bad values.
-GaborSettings gabor_settings(const LobeQuery& query);
-
-// ---- Whole lobe images --------------------------------------------------------------------
-
-// The lobe image of the query. OHS and R-OHS (ξ3 = 2) are evaluated as a banded complex matrix
-// product over the footprint's kernels (each kernel's transform is separable in v_x and v_y);
-// GHS, R-GHS and Kirchhoff (ξ3 = ψ·n) pixel by pixel over pruned kernel blocks. The metadata
-// records the kernel grid, count, truncations and evaluation scheme under "gabor.*".
-LobeImage gabor_lobe(const LobeQuery& query);
 
 // ---- Point queries for renderers ----------------------------------------------------------
 

@@ -1,0 +1,188 @@
+#include "image_command.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "glintscope/atomic_output.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/lobe.hpp"
+#include "glintscope/lobe_output.hpp"
+#include "glintscope/query_keys.hpp"
+#include "glintscope/spectrum.hpp"
+#include "glintscope/text_format.hpp"
+
+namespace glintscope::cli {
+
+struct ImageCommandSettings {
+    Quantity quantity = Quantity::brdf;
+    std::string method;
+    QueryText given;                // query keys from flags, in command-line order
+    std::vector<std::string> options;  // --option KEY=VALUE
+    std::string from;
+    std::string output;
+    std::string png;
+    std::string json;
+    std::string illuminant = "d65";
+    std::string exposure = "auto";
+    bool log_scale = false;
+    std::string colormap = "inferno";
+    bool spectral_channels = false;
+    std::string ocio_config;
+    std::string colour_space = "lin_rec709";
+};
+
+namespace {
+
+std::string flag_name(const std::string& key) {
+    std::string name = "--" + key;
+    std::replace(name.begin(), name.end(), '_', '-');
+    return name;
+}
+
+// One flag per query key (the quantity is the command's own); --option and one flag per method
+// option key, whose help names the methods that read it.
+void add_query_flags(CLI::App& command, ImageCommandSettings& settings) {
+    for (const QueryKey& key : query_keys()) {
+        if (key.name == "quantity" || key.name == "heightfield") continue;
+        auto* option = command.add_option_function<std::string>(
+            flag_name(key.name), [&settings, name = key.name](const std::string& value) {
+                settings.given.emplace_back(name, value);
+            },
+            key.help);
+        option->type_name(key.value_name);
+        if (!key.implicit.empty()) option->expected(0, 1)->default_str(key.implicit);
+    }
+    std::map<std::string, std::vector<std::string>> readers;
+    std::map<std::string, std::string> helps;
+    for (const MethodInfo& method : lobe_methods()) {
+        if (!method.answers(settings.quantity)) continue;
+        for (const MethodOption& option : method.options) {
+            readers[option.key].push_back(method.name);
+            helps[option.key] = option.help;
+        }
+    }
+    for (const auto& [key, methods] : readers)
+        command
+            .add_option_function<std::string>(
+                flag_name(key), [&settings, key](const std::string& value) { settings.given.emplace_back("option." + key, value); },
+                join(methods) + ": " + helps[key])
+            ->type_name("VALUE");
+    command.add_option("--option", settings.options, "Method option KEY=VALUE (repeatable)")->type_name("KEY=VALUE");
+}
+
+void add_output_flags(CLI::App& command, ImageCommandSettings& settings) {
+    command.add_option("-o,--output", settings.output, "Output EXR (scene-linear float; the query in its header)")
+        ->required();
+    command.add_option("--png", settings.png, "Also write a display PNG");
+    command.add_option("--json", settings.json, "Also write a JSON sidecar with the query and summary numbers");
+    command.add_option("--illuminant", settings.illuminant, "d65 or e")->capture_default_str();
+    command.add_option("--exposure", settings.exposure, "PNG exposure: auto or EV")->capture_default_str();
+    command.add_flag("--log", settings.log_scale, "PNG on a log scale");
+    command.add_option("--colormap", settings.colormap, "Single-wavelength PNG: inferno, viridis or grey")
+        ->capture_default_str();
+    command.add_flag("--spectral-channels", settings.spectral_channels, "EXR: also one channel per wavelength");
+    command.add_option("--ocio-config", settings.ocio_config, "OpenColorIO config (default: $OCIO or built in)");
+    command.add_option("--colour-space", settings.colour_space, "Scene-linear output colour space of the EXR")
+        ->capture_default_str();
+}
+
+LobeOutputOptions output_options(const ImageCommandSettings& settings) {
+    LobeOutputOptions options;
+    options.colour.config_path = settings.ocio_config;
+    options.colour.output_space = settings.colour_space;
+    options.colour.illuminant = parse_illuminant(settings.illuminant);
+    options.colour.log_scale = settings.log_scale;
+    if (settings.exposure != "auto") {
+        try {
+            options.colour.exposure_ev = parse_number(settings.exposure);
+        } catch (const Error&) {
+            throw Error("--exposure must be 'auto' or a number of stops, got '" + settings.exposure + "'");
+        }
+    }
+    options.colormap = settings.colormap;
+    options.spectral_channels = settings.spectral_channels;
+    return options;
+}
+
+void check_outputs(const ImageCommandSettings& settings) {
+    check_output_path(settings.output, {"exr"}, "-o");
+    if (!settings.png.empty()) check_output_path(settings.png, {"png"}, "--png");
+    if (!settings.json.empty()) check_output_path(settings.json, {"json"}, "--json");
+}
+
+// The query text: --from's recorded query, overridden by the flags given, with the command's
+// quantity; and the method: --method, else the one recorded, else the command's default.
+QueryText query_text_of(const ImageCommandSettings& settings, const std::string& heightfield, std::string& method) {
+    QueryText given = settings.given;
+    if (!heightfield.empty()) given.emplace_back("heightfield", heightfield);
+    for (const std::string& option : settings.options) {
+        const auto equals = option.find('=');
+        if (equals == std::string::npos || equals == 0)
+            throw Error("--option '" + option + "' is not of the form KEY=VALUE");
+        given.emplace_back("option." + option.substr(0, equals), option.substr(equals + 1));
+    }
+    given.emplace_back("quantity", to_string(settings.quantity));
+    if (settings.from.empty()) return given;
+    const Provenance recorded = read_output_metadata(settings.from);
+    if (method.empty() && recorded.count("method")) method = recorded.at("method");
+    return merge_query_text(query_text_from_metadata(recorded), given);
+}
+
+void print_summary(const LobeImage& image, const std::string& method, const LobeQuery& query) {
+    const QuantityLabels& label = labels(image.quantity);
+    const std::string who = method + (image.quantity == Quantity::brdf ? " " + to_string(query.model) : "");
+    for (const WavelengthSummary& summary : summarize_lobe(image)) {
+        const std::string at = image.quantity == Quantity::brdf ? "lambda " + shortest_text(summary.wavelength_um) + " um: " : "";
+        std::printf("%s, %speak %s = %.6g%s at %s = (%.4f, %.4f), %s %.6g\n", who.c_str(), at.c_str(),
+                    label.symbol.c_str(), summary.peak_value, label.units == "1" ? "" : (" " + label.units).c_str(),
+                    label.pixel.c_str(), summary.peak_direction.x, summary.peak_direction.y, label.sum_name.c_str(),
+                    summary.disk_sum);
+        if (image.quantity == Quantity::ndf) break;  // every layer of an NDF is the same
+    }
+}
+
+void run(const ImageCommandSettings& settings, const std::string& heightfield, std::string method,
+         const std::string& default_method) {
+    check_outputs(settings);
+    const LobeOutputOptions options = output_options(settings);
+    const QueryText text = query_text_of(settings, heightfield, method);
+    if (method.empty()) method = default_method;
+    lobe_method(method);  // an unknown method fails before the heightfield is loaded
+    const LobeQuery query = make_query(text);
+    validate(query);
+    for (const std::string& warning : query_warnings(method, query))
+        std::fprintf(stderr, "glintscope: warning: %s\n", warning.c_str());
+    const LobeImage image = compute_lobe(method, query);
+    write_lobe_exr(image, settings.output, options);
+    if (!settings.png.empty()) write_lobe_png(image, settings.png, options);
+    if (!settings.json.empty()) write_lobe_json(image, settings.json, options);
+    print_summary(image, method, query);
+}
+
+}  // namespace
+
+void add_image_command(CLI::App& command, Quantity quantity, const std::string& default_method) {
+    auto settings = std::make_shared<ImageCommandSettings>();
+    auto heightfield = std::make_shared<std::string>();
+    auto method = std::make_shared<std::string>();
+    settings->quantity = quantity;
+    command.add_option("heightfield", *heightfield,
+                       "Heightfield file, or builtin:KIND (isotropic, brushed, ...); optional with --from");
+    std::vector<std::string> names;
+    for (const MethodInfo& info : lobe_methods())
+        if (info.answers(quantity)) names.push_back(info.name + " (" + info.reference + ")");
+    command.add_option("--method", *method, "Method (default " + default_method + "): " + join(names));
+    command.add_option("--from", settings->from,
+                       "Re-run the query recorded in an EXR, PNG or JSON this tool wrote; flags given override it");
+    add_query_flags(command, *settings);
+    add_output_flags(command, *settings);
+    command.callback([settings, heightfield, method, default_method] {
+        if (heightfield->empty() && settings->from.empty())
+            throw Error("give a heightfield (or --from FILE to re-run a recorded query)");
+        run(*settings, *heightfield, *method, default_method);
+    });
+}
+
+}  // namespace glintscope::cli

@@ -1,0 +1,52 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "glintscope/compare.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/geometry.hpp"
+
+namespace glintscope {
+namespace {
+
+// A Gaussian spot centred on pixel (row, col), zero outside the disk.
+LobeImage spot(int n, int row, int col, double scale) {
+    LobeImage image = make_lobe_image(n, {0.5});
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+            if (inside_unit_disk(disk_pixel_point(r, c, n)))
+                image.at(0, r, c) = float(scale * std::exp(-((r - row) * (r - row) + (c - col) * (c - col)) / 8.0));
+    return image;
+}
+
+TEST(CompareLobes, ScalingByOnePointOneIsTenPercentAndMovesNoPeak) {
+    const LobeImage reference = spot(32, 16, 16, 1.0);
+    const LayerComparison same = compare_lobes(reference, reference).at(0);
+    EXPECT_EQ(same.relative_l2, 0.0);
+    EXPECT_EQ(same.max_abs_difference, 0.0);
+    const LayerComparison scaled = compare_lobes(spot(32, 16, 16, 1.1), reference).at(0);
+    EXPECT_NEAR(scaled.relative_l2, 0.1, 1e-6);
+    EXPECT_NEAR(scaled.test_sum / scaled.reference_sum, 1.1, 1e-6);
+    EXPECT_NEAR(scaled.max_abs_difference, 0.1, 1e-6);  // at the peak, where the value is 1
+    EXPECT_EQ(scaled.max_row, 16);
+    EXPECT_EQ(scaled.max_col, 16);
+    EXPECT_EQ(scaled.peak_offset_pixels, 0.0);
+}
+
+TEST(CompareLobes, SumsAreDiskIntegralsAndPeakOffsetsAreInPixels) {
+    const LobeImage reference = spot(32, 16, 16, 1.0);
+    const LayerComparison moved = compare_lobes(spot(32, 19, 12, 1.0), reference).at(0);
+    EXPECT_DOUBLE_EQ(moved.peak_offset_pixels, 5.0);
+    // Σ value (2/N)² of a Gaussian of variance 4 px² (well inside the disk): 2π·4·(2/32)².
+    EXPECT_NEAR(moved.reference_sum, 2.0 * pi * 4.0 * std::pow(2.0 / 32, 2), 1e-3);
+}
+
+TEST(CompareLobes, RefusesImagesOfDifferentShapeOrQuantity) {
+    EXPECT_THROW(compare_lobes(spot(16, 8, 8, 1.0), spot(32, 16, 16, 1.0)), Error);
+    LobeImage ndf = spot(32, 16, 16, 1.0);
+    ndf.quantity = Quantity::ndf;
+    EXPECT_THROW(compare_lobes(ndf, spot(32, 16, 16, 1.0)), Error);
+}
+
+}  // namespace
+}  // namespace glintscope
