@@ -1,4 +1,6 @@
-// Inpainting of missing heightfield points (profilometer drop-outs, Dong 2015 §3).
+// Inpainting of missing heightfield points (profilometer drop-outs). Dong 2015 §4.1 treats such
+// points as missing data and found hole filling unnecessary for its predictions; every method here
+// samples one interpolant over the whole field, so the holes must hold heights.
 //
 // The filled heights minimise a smoothness energy, a sum of squared finite differences, with
 // the valid heights held fixed:
