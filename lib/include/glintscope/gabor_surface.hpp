@@ -103,6 +103,8 @@ private:
         unsigned char y[64];
     };
 
+    struct Collector;  // one query's walk (gabor_surface.cpp)
+
     void build_leaves();
     void build_parents();
     // Appends the kernels that survive pruning at `prune_lambda_um`, heights relative to H(x_c).

@@ -430,38 +430,72 @@ std::size_t GaborSurface::memory_bytes() const {
     return bytes;
 }
 
-void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
-                           GaborQueryStatistics* statistics) const {
-    const gabor::KernelGrid grid = gabor::kernel_grid(surface_->texel_um(), settings_);
-    const gabor::CoherenceWindow window(query.footprint, settings_.footprint_sigmas);
-    window.check_kernel_count(grid);
-    const Vec3 psi = query.omega_i + query.omega_o;
-    const DirectionalReach reach{psi.x / prune_lambda_um, psi.y / prune_lambda_um,
-                                 xi3(query.model, query.omega_i, query.omega_o) / prune_lambda_um,
-                                 grid.reach * kReachMargin};
-    const bool sampled = grid.kernels_per_texel == 1;
-    const DifferenceBounds difference_bounds = sampled ? reach.difference_bounds(grid.spacing_um) : DifferenceBounds{};
-    const Point2 centre = query.footprint.centre_um;
-    const double reference_height = surface_->height(centre.x, centre.y);
-    const double weight_scale = grid.spacing_um * grid.spacing_um;
-    const double tile_x = kernels_x_ * grid.spacing_um;
-    const double tile_y = kernels_y_ * grid.spacing_um;
-    const double extent = window.half_extent_um();
-    thread_local std::vector<std::pair<int, int>> nodes;  // (column, row) of one level's nodes
-    thread_local std::vector<std::pair<int, int>> children;
-    thread_local std::vector<unsigned char> leaf_map;  // over the footprint's leaves: 1 if it survives
-    thread_local std::vector<int> leaf_columns;  // the surviving leaves of one leaf row
-    thread_local std::vector<SurfacePoint> block;
-    thread_local std::vector<int> survivor_columns;  // K = 1: kernels of one row that survive pruning
-    thread_local SeparableWeights weights;
+namespace {
+
+// Scratch space of the collector, kept per thread across queries so that a query allocates
+// nothing once warm.
+struct CollectScratch {
+    std::vector<std::pair<int, int>> nodes;  // (column, row) of one level's nodes
+    std::vector<std::pair<int, int>> children;
+    std::vector<unsigned char> leaf_map;     // over the footprint's leaves: 1 if it survives
+    std::vector<int> leaf_columns;           // the surviving leaves of one leaf row
+    std::vector<SurfacePoint> block;
+    std::vector<int> survivor_columns;       // K = 1: kernels of one row that survive pruning
+    SeparableWeights weights;
+};
+
+// The leaves [x0, x1] × [y0, y1] that may hold kernels of the footprint in one tile copy.
+struct LeafRange {
+    int x0, x1, y0, y1;
+    int width() const { return x1 - x0 + 1; }
+};
+
+}  // namespace
+
+// One point query's walk (Yan 2018 §5): for each tile copy the footprint overlaps, find the
+// leaves that survive pruning, then append the kernels of those leaves that survive too.
+struct GaborSurface::Collector {
+    const GaborSurface& surface;
+    const GaborPointQuery& query;
+    gabor::KernelArrays& kernels;
+    const gabor::KernelGrid grid;
+    const gabor::CoherenceWindow window;
+    const DirectionalReach reach;
+    const bool sampled;  // K = 1: the kernels are the samples
+    const DifferenceBounds difference_bounds;
+    const Point2 centre;
+    const double reference_height;
+    const double weight_scale;
+    const double extent;
+    CollectScratch& scratch;
     GaborQueryStatistics counts;
 
-    // The leaves [x0, x1] × [y0, y1] that may hold kernels of the footprint in one tile copy.
-    struct LeafRange {
-        int x0, x1, y0, y1;
-        int width() const { return x1 - x0 + 1; }
-    };
-    const auto leaf_range = [&](double cx, double cy, LeafRange& range) {
+    Collector(const GaborSurface& surface, const GaborPointQuery& query, double prune_lambda_um,
+              gabor::KernelArrays& kernels, CollectScratch& scratch)
+        : surface(surface),
+          query(query),
+          kernels(kernels),
+          grid(gabor::kernel_grid(surface.surface_->texel_um(), surface.settings_)),
+          window(query.footprint, surface.settings_.footprint_sigmas),
+          reach(directional_reach(query, prune_lambda_um, grid)),
+          sampled(grid.kernels_per_texel == 1),
+          difference_bounds(sampled ? reach.difference_bounds(grid.spacing_um) : DifferenceBounds{}),
+          centre(query.footprint.centre_um),
+          reference_height(surface.surface_->height(centre.x, centre.y)),
+          weight_scale(grid.spacing_um * grid.spacing_um),
+          extent(window.half_extent_um()),
+          scratch(scratch) {
+        window.check_kernel_count(grid);
+    }
+
+    static DirectionalReach directional_reach(const GaborPointQuery& query, double lambda_um,
+                                              const gabor::KernelGrid& grid) {
+        const Vec3 psi = query.omega_i + query.omega_o;
+        return {psi.x / lambda_um, psi.y / lambda_um, xi3(query.model, query.omega_i, query.omega_o) / lambda_um,
+                grid.reach * kReachMargin};
+    }
+
+    bool leaf_range(double cx, double cy, LeafRange& range) const {
         const auto axis = [&](double c, int count, int& first, int& last) {
             const double from = std::max(0.0, std::floor((c - extent) / grid.spacing_um - 0.5));
             const double to = std::min(count - 1.0, std::ceil((c + extent) / grid.spacing_um - 0.5));
@@ -469,119 +503,129 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
             last = static_cast<int>(std::max(to, 0.0)) / kLeafKernels;
             return from <= to;
         };
-        return axis(cx, kernels_x_, range.x0, range.x1) && axis(cy, kernels_y_, range.y0, range.y1);
-    };
+        return axis(cx, surface.kernels_x_, range.x0, range.x1) && axis(cy, surface.kernels_y_, range.y0, range.y1);
+    }
 
     // K = 1 reads the samples of the footprint's rows (and one more on each side), a few cache
     // lines per row: those come from outer caches one by one unless asked for ahead of time, a
     // couple of leaf rows ahead so that they arrive while earlier rows are processed.
-    constexpr int kPrefetchLeafRows = 2;
-    const auto prefetch_samples = [&](const LeafRange& range, int leaf_row) {
+    static constexpr int kPrefetchLeafRows = 2;
+    void prefetch_samples(const LeafRange& range, int leaf_row) const {
         if (leaf_row > range.y1) return;
         const int c0 = std::max(0, range.x0 * kLeafKernels - 1);
-        const int c1 = std::min(kernels_x_, (range.x1 + 1) * kLeafKernels + 1);
+        const int c1 = std::min(surface.kernels_x_, (range.x1 + 1) * kLeafKernels + 1);
         const int j0 = leaf_row * kLeafKernels + (leaf_row == range.y0 ? -1 : 1);
         const int j1 = (leaf_row + 1) * kLeafKernels + 1;
         for (int j = j0; j < j1; ++j) {
-            const float* row = surface_->sample_row((j + kernels_y_) % kernels_y_);
+            const float* row = surface.surface_->sample_row((j + surface.kernels_y_) % surface.kernels_y_);
             for (int c = c0; c < c1; c += 16) __builtin_prefetch(row + c);
             __builtin_prefetch(row + c1 - 1);
         }
-    };
+    }
 
-    // Yan 2018 §5: down the hierarchy, dropping nodes outside the footprint or whose directional
-    // box cannot reach the query; the survivors are marked in leaf_map. The walk starts at the
-    // finest level on which the footprint spans at most 16 × 16 nodes (testing those directly is
-    // cheaper than descending to them), and goes level by level so that the bounds of a level's
-    // nodes are fetched from memory together.
-    const auto find_leaves = [&](double cx, double cy, const LeafRange& range) {
-        const auto overlaps = [&](int level, int ix, int iy) {
-            const int span = kLeafKernels << level;  // kernels per node side
-            const int i0 = ix * span;
-            const int j0 = iy * span;
-            const int i1 = std::min(kernels_x_, i0 + span);
-            const int j1 = std::min(kernels_y_, j0 + span);
-            return window.overlaps(grid.centre(i0) - cx, grid.centre(i1 - 1) - cx, grid.centre(j0) - cy,
-                                   grid.centre(j1 - 1) - cy);
-        };
-        leaf_map.assign(static_cast<std::size_t>(range.width()) * (range.y1 - range.y0 + 1), 0);
-        int start = 0;
+    bool node_overlaps(double cx, double cy, int level, int ix, int iy) const {
+        const int span = kLeafKernels << level;  // kernels per node side
+        const int i0 = ix * span;
+        const int j0 = iy * span;
+        const int i1 = std::min(surface.kernels_x_, i0 + span);
+        const int j1 = std::min(surface.kernels_y_, j0 + span);
+        return window.overlaps(grid.centre(i0) - cx, grid.centre(i1 - 1) - cx, grid.centre(j0) - cy,
+                               grid.centre(j1 - 1) - cy);
+    }
+
+    // The finest level on which the footprint spans at most 16 × 16 nodes: testing those directly
+    // is cheaper than descending to them.
+    int start_level(const LeafRange& range) const {
         const auto nodes_spanned = [&](int level) {
             return ((range.x1 >> level) - (range.x0 >> level) + 1) * ((range.y1 >> level) - (range.y0 >> level) + 1);
         };
-        while (start + 1 < static_cast<int>(levels_.size()) && nodes_spanned(start) > 16 * 16) ++start;
-        nodes.clear();
+        int start = 0;
+        while (start + 1 < static_cast<int>(surface.levels_.size()) && nodes_spanned(start) > 16 * 16) ++start;
+        return start;
+    }
+
+    // Yan 2018 §5: down the hierarchy, dropping nodes outside the footprint or whose directional
+    // box cannot reach the query; the survivors are marked in leaf_map. The walk goes level by
+    // level so that the bounds of a level's nodes are fetched from memory together.
+    void find_leaves(double cx, double cy, const LeafRange& range) {
+        scratch.leaf_map.assign(static_cast<std::size_t>(range.width()) * (range.y1 - range.y0 + 1), 0);
+        const int start = start_level(range);
+        scratch.nodes.clear();
         for (int iy = range.y0 >> start; iy <= range.y1 >> start; ++iy)
             for (int ix = range.x0 >> start; ix <= range.x1 >> start; ++ix)
-                if (overlaps(start, ix, iy)) nodes.emplace_back(ix, iy);
+                if (node_overlaps(cx, cy, start, ix, iy)) scratch.nodes.emplace_back(ix, iy);
         for (int level_index = start; level_index >= 0; --level_index) {
-            const Level& level = levels_[level_index];
-            children.clear();
-            for (const auto& [ix, iy] : nodes) {
-                ++counts.nodes_visited;
-                const std::size_t index = static_cast<std::size_t>(iy) * level.nx + ix;
-                if (!reach.box_reaches(level.boxes[index])) continue;
-                if (level_index == 0) {
-                    leaf_map[static_cast<std::size_t>(iy - range.y0) * range.width() + (ix - range.x0)] = 1;
-                    if (!sampled) {
-                        __builtin_prefetch(&leaf_codes_[index]);
-                        __builtin_prefetch(reinterpret_cast<const char*>(&leaf_codes_[index]) + 64);
-                    }
-                    continue;
-                }
-                const Level& below = levels_[level_index - 1];
-                const int shift = level_index - 1;
-                for (int dy = 0; dy < 2; ++dy)
-                    for (int dx = 0; dx < 2; ++dx) {
-                        const int child_x = 2 * ix + dx;
-                        const int child_y = 2 * iy + dy;
-                        if (child_x < range.x0 >> shift || child_x > range.x1 >> shift ||
-                            child_y < range.y0 >> shift || child_y > range.y1 >> shift ||
-                            !overlaps(shift, child_x, child_y))
-                            continue;
-                        children.emplace_back(child_x, child_y);
-                        __builtin_prefetch(&below.boxes[static_cast<std::size_t>(child_y) * below.nx + child_x]);
-                    }
-            }
-            std::swap(nodes, children);
+            scratch.children.clear();
+            for (const auto& [ix, iy] : scratch.nodes) visit_node(cx, cy, range, level_index, ix, iy);
+            std::swap(scratch.nodes, scratch.children);
         }
-    };
+    }
+
+    // A node that reaches the query: a leaf is marked, a parent's overlapping children are queued.
+    void visit_node(double cx, double cy, const LeafRange& range, int level_index, int ix, int iy) {
+        const Level& level = surface.levels_[level_index];
+        ++counts.nodes_visited;
+        const std::size_t index = static_cast<std::size_t>(iy) * level.nx + ix;
+        if (!reach.box_reaches(level.boxes[index])) return;
+        if (level_index == 0) {
+            scratch.leaf_map[static_cast<std::size_t>(iy - range.y0) * range.width() + (ix - range.x0)] = 1;
+            if (!sampled) {
+                __builtin_prefetch(&surface.leaf_codes_[index]);
+                __builtin_prefetch(reinterpret_cast<const char*>(&surface.leaf_codes_[index]) + 64);
+            }
+            return;
+        }
+        const Level& below = surface.levels_[level_index - 1];
+        const int shift = level_index - 1;
+        for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx) {
+                const int child_x = 2 * ix + dx;
+                const int child_y = 2 * iy + dy;
+                if (child_x < range.x0 >> shift || child_x > range.x1 >> shift || child_y < range.y0 >> shift ||
+                    child_y > range.y1 >> shift || !node_overlaps(cx, cy, shift, child_x, child_y))
+                    continue;
+                scratch.children.emplace_back(child_x, child_y);
+                __builtin_prefetch(&below.boxes[static_cast<std::size_t>(child_y) * below.nx + child_x]);
+            }
+    }
 
     // K = 1: the kernels of the surviving leaves inside the window's chord [first, last] on
     // kernel row j, tested on their samples' central differences. The survivors' columns are
     // listed first, 8 slots written per leaf and the count of survivors kept, so that no branch
     // depends on which kernels survive; then their H and H' (sample_point's arithmetic, with the
     // row's neighbours fixed) go straight into the kernel arrays.
-    const auto add_sampled_row = [&](double cx, double cy, int j, long long first, long long last) {
-        const float* row = surface_->sample_row(j);
-        const float* below = surface_->sample_row(j == 0 ? kernels_y_ - 1 : j - 1);
-        const float* above = surface_->sample_row(j + 1 == kernels_y_ ? 0 : j + 1);
-        int* columns = survivor_columns.data();
-        const std::size_t count = list_row_survivors(below, row, above, kernels_x_, leaf_columns.data(),
-                                                     leaf_columns.size(), first, last, difference_bounds, columns);
+    void add_sampled_row(double cx, double cy, int j, long long first, long long last) {
+        const int rows = surface.kernels_y_;
+        const float* row = surface.surface_->sample_row(j);
+        const float* below = surface.surface_->sample_row(j == 0 ? rows - 1 : j - 1);
+        const float* above = surface.surface_->sample_row(j + 1 == rows ? 0 : j + 1);
+        int* columns = scratch.survivor_columns.data();
+        const std::size_t count =
+            list_row_survivors(below, row, above, surface.kernels_x_, scratch.leaf_columns.data(),
+                               scratch.leaf_columns.size(), first, last, difference_bounds, columns);
         counts.kernels_evaluated += count;
         const SampledRow sampled_row{below,
                                      row,
                                      above,
-                                     kernels_x_,
+                                     surface.kernels_x_,
                                      grid.spacing_um,
                                      cx,
                                      grid.centre(j) - cy,
                                      reference_height,
-                                     weights.along_y(j) * weight_scale,
-                                     weights.columns(),
-                                     weights.first_column()};
+                                     scratch.weights.along_y(j) * weight_scale,
+                                     scratch.weights.columns(),
+                                     scratch.weights.first_column()};
         append_sampled_kernels(sampled_row, columns, count, kernels);
-    };
+    }
 
     // K > 1: per surviving leaf, the kernels inside the window whose codes may reach; the leaf's
     // block of the kernel grid is interpolated once if any are left.
-    const auto add_coded_leaf = [&](double cx, double cy, int leaf_row, int leaf_column, const long long* first,
-                                    const long long* last) {
+    void add_coded_leaf(double cx, double cy, int leaf_row, int leaf_column, const long long* first,
+                        const long long* last) {
         const int i0 = leaf_column * kLeafKernels;
         const int j0 = leaf_row * kLeafKernels;
-        const int nx = std::min(kLeafKernels, kernels_x_ - i0);
-        const int ny = std::min(kLeafKernels, kernels_y_ - j0);
+        const int nx = std::min(kLeafKernels, surface.kernels_x_ - i0);
+        const int ny = std::min(kLeafKernels, surface.kernels_y_ - j0);
         std::uint64_t inside = 0;  // kernels of the leaf that the window contains
         for (int j = 0; j < ny; ++j) {
             const long long from = std::max<long long>(first[j], i0);
@@ -591,30 +635,31 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
             inside |= run << (j * kLeafKernels + (from - i0));
         }
         if (inside == 0) return;
-        const std::size_t index = static_cast<std::size_t>(leaf_row) * levels_.front().nx + leaf_column;
-        const LeafCodes& codes = leaf_codes_[index];
-        std::uint64_t bits = inside & reach.leaf_reaches(levels_.front().boxes[index], codes.x, codes.y);
+        const std::size_t index = static_cast<std::size_t>(leaf_row) * surface.levels_.front().nx + leaf_column;
+        const LeafCodes& codes = surface.leaf_codes_[index];
+        std::uint64_t bits = inside & reach.leaf_reaches(surface.levels_.front().boxes[index], codes.x, codes.y);
         if (bits == 0) return;
-        block.resize(static_cast<std::size_t>(kLeafKernels) * kLeafKernels);
-        gabor::evaluate_kernels(*surface_, grid, i0, j0, nx, ny, block.data());
+        scratch.block.resize(static_cast<std::size_t>(kLeafKernels) * kLeafKernels);
+        gabor::evaluate_kernels(*surface.surface_, grid, i0, j0, nx, ny, scratch.block.data());
         counts.kernels_evaluated += static_cast<std::size_t>(nx) * ny;
         for (; bits != 0; bits &= bits - 1) {
             const int k = std::countr_zero(bits);
             const int i = i0 + k % kLeafKernels;
             const int j = j0 + k / kLeafKernels;
             kernels.push(grid.centre(i) - cx, grid.centre(j) - cy,
-                         block[static_cast<std::size_t>(k / kLeafKernels) * nx + k % kLeafKernels], reference_height,
-                         weights.along_x(i) * weights.along_y(j) * weight_scale);
+                         scratch.block[static_cast<std::size_t>(k / kLeafKernels) * nx + k % kLeafKernels],
+                         reference_height, scratch.weights.along_x(i) * scratch.weights.along_y(j) * weight_scale);
         }
-    };
+    }
 
     // One leaf row's surviving leaves (leaf_columns, ascending): the window's chord on each of its
     // kernel rows over their span, then the kernels.
-    const auto add_leaf_row = [&](double cx, double cy, int leaf_row) {
+    void add_leaf_row(double cx, double cy, int leaf_row) {
+        const std::vector<int>& leaf_columns = scratch.leaf_columns;
         const int j0 = leaf_row * kLeafKernels;
-        const int j1 = std::min(kernels_y_, j0 + kLeafKernels);
+        const int j1 = std::min(surface.kernels_y_, j0 + kLeafKernels);
         const int i0 = leaf_columns.front() * kLeafKernels;
-        const int i1 = std::min(kernels_x_, (leaf_columns.back() + 1) * kLeafKernels);
+        const int i1 = std::min(surface.kernels_x_, (leaf_columns.back() + 1) * kLeafKernels);
         long long first[kLeafKernels];
         long long last[kLeafKernels];
         for (int j = j0; j < j1; ++j)
@@ -624,41 +669,55 @@ void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um,
             }
         if (sampled) {
             // + 8: unpacking writes 8 slots past the survivors.
-            survivor_columns.resize(std::max(survivor_columns.size(), leaf_columns.size() * kLeafKernels + 8));
+            scratch.survivor_columns.resize(
+                std::max(scratch.survivor_columns.size(), leaf_columns.size() * kLeafKernels + 8));
             for (int j = j0; j < j1; ++j)
                 if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0]);
             return;
         }
         kernels.reserve_more(leaf_columns.size() * kLeafKernels * kLeafKernels);
         for (const int leaf_column : leaf_columns) add_coded_leaf(cx, cy, leaf_row, leaf_column, first, last);
-    };
+    }
 
-    // The surface tiles periodically: visit every tile copy the footprint overlaps, with the
-    // footprint centre expressed in that copy's coordinates.
-    for (long long ty = std::llround(std::floor((centre.y - extent) / tile_y));
-         ty <= std::llround(std::floor((centre.y + extent) / tile_y)); ++ty)
-        for (long long tx = std::llround(std::floor((centre.x - extent) / tile_x));
-             tx <= std::llround(std::floor((centre.x + extent) / tile_x)); ++tx) {
-            const double cx = centre.x - tx * tile_x;
-            const double cy = centre.y - ty * tile_y;
-            LeafRange range;
-            if (!leaf_range(cx, cy, range)) continue;
-            if (sampled)
-                for (int ahead = 0; ahead < kPrefetchLeafRows; ++ahead) prefetch_samples(range, range.y0 + ahead);
-            weights.tabulate(window, grid, cx, cy);
-            find_leaves(cx, cy, range);
-            for (int leaf_row = range.y0; leaf_row <= range.y1; ++leaf_row) {
-                if (sampled) prefetch_samples(range, leaf_row + kPrefetchLeafRows);
-                leaf_columns.clear();
-                const unsigned char* marks = &leaf_map[static_cast<std::size_t>(leaf_row - range.y0) * range.width()];
-                for (int k = 0; k < range.width(); ++k)
-                    if (marks[k]) leaf_columns.push_back(range.x0 + k);
-                if (!leaf_columns.empty()) add_leaf_row(cx, cy, leaf_row);
-            }
+    // The footprint centre expressed in one tile copy's coordinates (cx, cy): its leaves.
+    void add_tile_copy(double cx, double cy) {
+        LeafRange range;
+        if (!leaf_range(cx, cy, range)) return;
+        if (sampled)
+            for (int ahead = 0; ahead < kPrefetchLeafRows; ++ahead) prefetch_samples(range, range.y0 + ahead);
+        scratch.weights.tabulate(window, grid, cx, cy);
+        find_leaves(cx, cy, range);
+        for (int leaf_row = range.y0; leaf_row <= range.y1; ++leaf_row) {
+            if (sampled) prefetch_samples(range, leaf_row + kPrefetchLeafRows);
+            scratch.leaf_columns.clear();
+            const unsigned char* marks =
+                &scratch.leaf_map[static_cast<std::size_t>(leaf_row - range.y0) * range.width()];
+            for (int k = 0; k < range.width(); ++k)
+                if (marks[k]) scratch.leaf_columns.push_back(range.x0 + k);
+            if (!scratch.leaf_columns.empty()) add_leaf_row(cx, cy, leaf_row);
         }
+    }
+
+    // The surface tiles periodically: visit every tile copy the footprint overlaps.
+    void add_tile_copies() {
+        const double tile_x = surface.kernels_x_ * grid.spacing_um;
+        const double tile_y = surface.kernels_y_ * grid.spacing_um;
+        for (long long ty = std::llround(std::floor((centre.y - extent) / tile_y));
+             ty <= std::llround(std::floor((centre.y + extent) / tile_y)); ++ty)
+            for (long long tx = std::llround(std::floor((centre.x - extent) / tile_x));
+                 tx <= std::llround(std::floor((centre.x + extent) / tile_x)); ++tx)
+                add_tile_copy(centre.x - tx * tile_x, centre.y - ty * tile_y);
+    }
+};
+
+void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
+                           GaborQueryStatistics* statistics) const {
+    thread_local CollectScratch scratch;
+    Collector collector(*this, query, prune_lambda_um, kernels, scratch);
+    collector.add_tile_copies();
     if (statistics) {
-        statistics->nodes_visited += counts.nodes_visited;
-        statistics->kernels_evaluated += counts.kernels_evaluated;
+        statistics->nodes_visited += collector.counts.nodes_visited;
+        statistics->kernels_evaluated += collector.counts.kernels_evaluated;
     }
 }
 
