@@ -1,9 +1,9 @@
+#include "glintscope/geometry.hpp"
 #include "glintscope/units.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 
 #include "glintscope/error.hpp"
 
@@ -86,6 +86,6 @@ std::string format_length(double micrometres) {
     return buffer;
 }
 
-double degrees_to_radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
+double degrees_to_radians(double degrees) { return degrees * pi / 180.0; }
 
 }  // namespace glintscope

@@ -1,16 +1,16 @@
 // A sinusoidal grating H = A sin(2π u/Λ), u = x cos θ + y sin θ: the simplest periodic surface,
 // whose diffraction orders sit at sin θ_o − sin θ_i = nλ/Λ.
 #include <cmath>
-#include <numbers>
 
 #include "generators.hpp"
+#include "glintscope/geometry.hpp"
 #include "glintscope/parallel.hpp"
 
 namespace glintscope {
 
 std::vector<float> sinusoidal_grating(const GridSpec& grid, const GratingParameters& parameters) {
     std::vector<float> heights(static_cast<std::size_t>(grid.rows) * grid.cols);
-    const double wavenumber = 2.0 * std::numbers::pi / parameters.period_um;
+    const double wavenumber = 2.0 * pi / parameters.period_um;
     const double cos_angle = std::cos(parameters.angle_rad);
     const double sin_angle = std::sin(parameters.angle_rad);
     parallel_for(grid.rows, 64, [&](std::size_t begin, std::size_t end) {

@@ -7,10 +7,10 @@
 #include <fstream>
 #include <functional>
 #include <limits>
-#include <numbers>
 #include <set>
 #include <sstream>
 
+#include "glintscope/geometry.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/generate.hpp"
 #include "glintscope/text_format.hpp"
@@ -98,7 +98,7 @@ KeyBinding angle_key(const std::string& name, const std::string& description, co
             [field](const Recipe& recipe) {
                 char buffer[64];
                 std::snprintf(buffer, sizeof buffer, "%.12g",
-                              field(const_cast<Recipe&>(recipe)) * 180.0 / std::numbers::pi);
+                              field(const_cast<Recipe&>(recipe)) * 180.0 / pi);
                 return std::string(buffer);
             }};
 }

@@ -7,11 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <vector>
 
 #include "core/counter_rng.hpp"
 #include "generators.hpp"
+#include "glintscope/geometry.hpp"
 #include "glintscope/parallel.hpp"
 
 namespace glintscope {
@@ -122,7 +122,7 @@ std::vector<Scratch> place_scratches(const GridSpec& grid, const ScratchParamete
         const std::uint64_t base = i * kDraws;
         Scratch& scratch = scratches[i];
         scratch.centre_um = {rng.uniform(base, 0.0, width), rng.uniform(base + 1, 0.0, height)};
-        scratch.direction_rad = rng.uniform(base + 2, 0.0, std::numbers::pi);
+        scratch.direction_rad = rng.uniform(base + 2, 0.0, pi);
         scratch.length_um = rng.uniform(base + 3, parameters.length_min_um, parameters.length_max_um);
         scratch.width_um = rng.uniform(base + 4, parameters.width_min_um, parameters.width_max_um);
         scratch.depth_um = rng.uniform(base + 5, parameters.depth_min_um, parameters.depth_max_um);

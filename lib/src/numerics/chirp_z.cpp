@@ -4,7 +4,8 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <numbers>
+
+#include "glintscope/geometry.hpp"
 
 namespace glintscope {
 namespace {
@@ -51,7 +52,7 @@ ChirpZ::ChirpZ(int input_count, int output_count, double sample_step, double fir
                double frequency_step)
     : input_count_(input_count), output_count_(output_count),
       fft_size_(smooth_fft_size(input_count + output_count - 1)) {
-    constexpr double two_pi = 2.0 * std::numbers::pi;
+    constexpr double two_pi = 2.0 * pi;
     const double theta = two_pi * sample_step * frequency_step;
     const double shift = two_pi * sample_step * first_frequency;
     input_chirp_.resize(input_count_);

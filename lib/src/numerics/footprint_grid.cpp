@@ -3,19 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 
+#include "glintscope/geometry.hpp"
 #include "glintscope/error.hpp"
+#include "glintscope/text_format.hpp"
 #include "glintscope/parallel.hpp"
 
 namespace glintscope {
 namespace {
-
-std::string format_number(double value) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.4g", value);
-    return buffer;
-}
 
 }  // namespace
 
@@ -30,8 +25,8 @@ FootprintExtent footprint_extent(const Footprint& footprint, double window_sigma
     } else {
         extent.sigma_um = footprint.sigma_um;
         extent.half_width_um = window_sigmas * footprint.sigma_um;
-        extent.area_um2 = std::numbers::pi * footprint.sigma_um * footprint.sigma_um;
-        extent.spectral_width = 1.0 / (2.0 * std::numbers::pi * footprint.sigma_um);
+        extent.area_um2 = pi * footprint.sigma_um * footprint.sigma_um;
+        extent.spectral_width = 1.0 / (2.0 * pi * footprint.sigma_um);
     }
     return extent;
 }
@@ -39,8 +34,8 @@ FootprintExtent footprint_extent(const Footprint& footprint, double window_sigma
 SampleAxis sample_axis(const FootprintExtent& extent, double centre_um, double step_um, int max_count) {
     const double cells = 2.0 * extent.half_width_um / step_um;
     if (!(cells < max_count))
-        throw Error("fft: a step of " + format_number(step_um) + " um needs more than " + std::to_string(max_count) +
-                    " samples across the " + format_number(2.0 * extent.half_width_um) +
+        throw Error("fft: a step of " + shortest_text(step_um) + " um needs more than " + std::to_string(max_count) +
+                    " samples across the " + shortest_text(2.0 * extent.half_width_um) +
                     " um footprint; use a larger step or a smaller footprint");
     if (extent.box) {
         const int count = std::max(1, static_cast<int>(std::ceil(cells)));

@@ -1,10 +1,11 @@
 #include "xi3_slices.hpp"
 
 #include <cmath>
-#include <numbers>
 #include <string>
 
+#include "glintscope/geometry.hpp"
 #include "glintscope/error.hpp"
+#include "glintscope/text_format.hpp"
 
 namespace glintscope {
 
@@ -40,7 +41,7 @@ Xi3Slices choose_xi3_slices(DiffractionModel model, const FootprintSamples& samp
     }
     // ⟨α⁴⟩ weighted by |w|, α = 2π(H − H̄)/λ.
     double sum_w = 0.0, sum_w_alpha4 = 0.0;
-    const double wavenumber = 2.0 * std::numbers::pi / lambda_um;
+    const double wavenumber = 2.0 * pi / lambda_um;
     for (std::size_t i = 0; i < samples.weight.size(); ++i) {
         const double alpha = wavenumber * samples.height[i];
         const double alpha2 = alpha * alpha;
@@ -52,7 +53,7 @@ Xi3Slices choose_xi3_slices(DiffractionModel model, const FootprintSamples& samp
     const double nodes_per_unit = std::ceil(1.0 / std::min(spacing, 1.0));
     const double needed = (xi3_max - xi3_min) * nodes_per_unit + 4.0;
     if (!(needed <= max_count && nodes_per_unit <= max_count))
-        throw Error("fft: interpolating xi3 within phase_error " + std::to_string(phase_error) + " needs " +
+        throw Error("fft: interpolating xi3 within phase_error " + shortest_text(phase_error) + " needs " +
                     std::to_string(static_cast<long long>(std::fmin(needed, 1e15))) + " transforms (more than " +
                     std::to_string(max_count) + "); raise phase_error or use a smoother surface");
     slices.nodes_per_unit = static_cast<int>(nodes_per_unit);

@@ -12,6 +12,7 @@
 
 #include "core/embedded_data.hpp"
 #include "glintscope/error.hpp"
+#include "glintscope/text_format.hpp"
 #include "glintscope/geometry.hpp"
 #include "glintscope/parallel.hpp"
 
@@ -126,33 +127,27 @@ double luminance_percentile(const std::vector<float>& xyz, int resolution, doubl
     return luminance[index];
 }
 
-std::string format_number(double value) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.6g", value);
-    return buffer;
-}
-
 // The exposure for a lobe whose XYZ image is `xyz` (see display_exposure).
 DisplayExposure exposure_for(const std::vector<float>& xyz, int resolution, const ColourSettings& settings) {
     DisplayExposure exposure;
     exposure.log_scale = settings.log_scale;
     exposure.log_decades = settings.log_decades;
     if (settings.log_scale && !(settings.log_decades > 0.0 && settings.log_decades <= 30.0))
-        throw Error("log scale decades must be between 0 and 30, got " + format_number(settings.log_decades));
+        throw Error("log scale decades must be between 0 and 30, got " + shortest_text(settings.log_decades));
     if (settings.exposure_ev) {
         if (!std::isfinite(*settings.exposure_ev) || std::fabs(*settings.exposure_ev) > 200.0)
-            throw Error("exposure must be a finite EV within +-200, got " + format_number(*settings.exposure_ev));
+            throw Error("exposure must be a finite EV within +-200, got " + shortest_text(*settings.exposure_ev));
         exposure.ev = *settings.exposure_ev;
         exposure.rule = "given";
     } else {
         if (!(settings.auto_percentile > 0.0 && settings.auto_percentile <= 100.0))
-            throw Error("auto exposure percentile must be in (0, 100], got " + format_number(settings.auto_percentile));
+            throw Error("auto exposure percentile must be in (0, 100], got " + shortest_text(settings.auto_percentile));
         // A log scale exists to show the whole range, so there the maximum is the top.
         const double rank = settings.log_scale ? 100.0 : settings.auto_percentile;
         double maximum = 0.0;
         const double level = luminance_percentile(xyz, resolution, rank, maximum);
         const std::string percentile = settings.log_scale ? std::string("maximum luminance in the disk")
-                                                          : format_number(rank) + "th percentile of luminance in the disk";
+                                                          : shortest_text(rank) + "th percentile of luminance in the disk";
         if (level > 0.0) {
             exposure.ev = -std::log2(level);
             exposure.rule = "auto: " + percentile + " maps to 1";

@@ -1,3 +1,4 @@
+#include "glintscope/geometry.hpp"
 #include "glintscope/lobe_output.hpp"
 
 #include <algorithm>
@@ -6,7 +7,6 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
-#include <numbers>
 #include <set>
 
 #include <OpenImageIO/imageio.h>
@@ -255,8 +255,8 @@ void write_lobe_json(const LobeImage& lobe, const std::string& path, const LobeO
         json += "    {\"wavelength_um\": " + json_number(s.wavelength_um) + ", \"peak_value\": " +
                 json_number(s.peak_value) + ", \"peak_pixel\": [" + std::to_string(s.peak_row) + ", " +
                 std::to_string(s.peak_col) + "], \"peak_direction\": " + json_numbers({d.x, d.y, d.z}) +
-                ", \"peak_theta_deg\": " + json_number(std::acos(std::clamp(d.z, -1.0, 1.0)) * 180.0 / std::numbers::pi) +
-                ", \"peak_phi_deg\": " + json_number(std::atan2(d.y, d.x) * 180.0 / std::numbers::pi) +
+                ", \"peak_theta_deg\": " + json_number(std::acos(std::clamp(d.z, -1.0, 1.0)) * 180.0 / pi) +
+                ", \"peak_phi_deg\": " + json_number(std::atan2(d.y, d.x) * 180.0 / pi) +
                 ", \"" + labels(lobe.quantity).sum_name + "\": " + json_number(s.disk_sum) + "}" + (i + 1 < summaries.size() ? "," : "") + "\n";
     }
     json += "  ],\n";

@@ -2,12 +2,12 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <numbers>
+
+#include "glintscope/geometry.hpp"
 
 namespace glintscope {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // exp(−x) for x beyond this is below 1e-300: skipping it avoids libm's slow underflow path.
 constexpr double kNegligibleExponent = 690.0;
 // The lattice sum over far images is truncated here; the remainder is O(1/kFarImages) of an
@@ -23,10 +23,10 @@ int signed_index(int index, int count) {
 // C1: Σ_m √π T exp(−π²T²(k + m/dx)²), summed until the terms vanish.
 double folded_gaussian(double t, double dx, double k) {
     double sum = 0.0;
-    const int images = 2 + static_cast<int>(std::ceil(std::sqrt(kNegligibleExponent) * dx / (kPi * t)));
+    const int images = 2 + static_cast<int>(std::ceil(std::sqrt(kNegligibleExponent) * dx / (pi * t)));
     for (int m = -images; m <= images; ++m) {
-        const double exponent = kPi * kPi * t * t * (k + m / dx) * (k + m / dx);
-        if (exponent < kNegligibleExponent) sum += std::sqrt(kPi) * t * std::exp(-exponent);
+        const double exponent = pi * pi * t * t * (k + m / dx) * (k + m / dx);
+        if (exponent < kNegligibleExponent) sum += std::sqrt(pi) * t * std::exp(-exponent);
     }
     return sum;
 }
@@ -36,7 +36,7 @@ double folded_gaussian(double t, double dx, double k) {
 // series of the sampled exponential), exact where the lattice sum converges only as 1/m.
 double folded_exponential(double t, double dx, double k) {
     const double r = std::exp(-dx / t);
-    return dx * (1.0 - r * r) / (1.0 - 2.0 * r * std::cos(2.0 * kPi * k * dx) + r * r);
+    return dx * (1.0 - r * r) / (1.0 - 2.0 * r * std::cos(2.0 * pi * k * dx) + r * r);
 }
 
 }  // namespace
@@ -75,17 +75,17 @@ double SampledPowerSpectrum::density(double kx, double ky) const {
     switch (parameters_.correlation) {
         case CorrelationFunction::c1: {
             // A product of 1-D Gaussians: FT of exp(−x²/T²) is √π T exp(−π²T²k²).
-            const double exponent = kPi * kPi * (u * u + v * v);
-            return exponent < kNegligibleExponent ? kPi * tx * ty * std::exp(-exponent) : 0.0;
+            const double exponent = pi * pi * (u * u + v * v);
+            return exponent < kNegligibleExponent ? pi * tx * ty * std::exp(-exponent) : 0.0;
         }
         case CorrelationFunction::c2: {
             // The 2-D transform of exp(−r) is 2π/(1 + 4π²|k|²)^{3/2}, stretched by T_x, T_y.
-            const double q = 1.0 + 4.0 * kPi * kPi * (u * u + v * v);
-            return 2.0 * kPi * tx * ty / (q * std::sqrt(q));
+            const double q = 1.0 + 4.0 * pi * pi * (u * u + v * v);
+            return 2.0 * pi * tx * ty / (q * std::sqrt(q));
         }
         case CorrelationFunction::c3:
             // A product of 1-D exponentials: FT of exp(−|x|/T) is 2T/(1 + 4π²T²k²).
-            return 4.0 * tx * ty / ((1.0 + 4.0 * kPi * kPi * u * u) * (1.0 + 4.0 * kPi * kPi * v * v));
+            return 4.0 * tx * ty / ((1.0 + 4.0 * pi * pi * u * u) * (1.0 + 4.0 * pi * pi * v * v));
     }
     return 0.0;
 }

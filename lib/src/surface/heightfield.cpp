@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "glintscope/error.hpp"
+#include "glintscope/text_format.hpp"
 
 namespace glintscope {
 
@@ -13,7 +14,7 @@ Heightfield make_heightfield(int rows, int cols, double texel_um, float value) {
         throw Error("heightfield size " + std::to_string(cols) + "x" + std::to_string(rows) +
                     " is empty or negative");
     if (!(texel_um > 0.0) || !std::isfinite(texel_um))
-        throw Error("texel size must be a positive length, got " + std::to_string(texel_um));
+        throw Error("texel size must be a positive length, got " + shortest_text(texel_um));
     constexpr std::size_t max_samples = std::size_t{1} << 31;
     if (static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols) > max_samples)
         throw Error("heightfield size " + std::to_string(cols) + "x" + std::to_string(rows) +

@@ -4,12 +4,12 @@
 #include <climits>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <string>
 
 #include "numerics/chirp_z.hpp"
 #include "numerics/footprint_grid.hpp"
 #include "optics/xi3_slices.hpp"
+#include "glintscope/geometry.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/material.hpp"
 #include "glintscope/parallel.hpp"
@@ -98,7 +98,7 @@ struct WavelengthSetup {
 // Yan 2018 eq. 1, 4 (ξ2 is applied later).
 std::vector<Complex> phase_factors(const WavelengthSetup& setup, double xi, bool weighted) {
     const FootprintSamples& samples = setup.samples;
-    const double phase_per_height = -2.0 * std::numbers::pi * xi / setup.lambda_um;
+    const double phase_per_height = -2.0 * pi * xi / setup.lambda_um;
     std::vector<Complex> factors(samples.weight.size());
     parallel_for(factors.size(), 4096, [&](std::size_t begin, std::size_t end) {
         for (std::size_t s = begin; s < end; ++s)
