@@ -1,5 +1,7 @@
 #include "image_command.hpp"
 
+#include "query_flags.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -19,7 +21,6 @@ struct ImageCommandSettings {
     Quantity quantity = Quantity::brdf;
     std::string method;
     QueryText given;                // query keys from flags, in command-line order
-    std::vector<std::string> options;  // --option KEY=VALUE
     std::string from;
     std::string output;
     std::string png;
@@ -34,43 +35,6 @@ struct ImageCommandSettings {
 };
 
 namespace {
-
-std::string flag_name(const std::string& key) {
-    std::string name = "--" + key;
-    std::replace(name.begin(), name.end(), '_', '-');
-    return name;
-}
-
-// One flag per query key (the quantity is the command's own); --option and one flag per method
-// option key, whose help names the methods that read it.
-void add_query_flags(CLI::App& command, ImageCommandSettings& settings) {
-    for (const QueryKey& key : query_keys()) {
-        if (key.name == "quantity" || key.name == "heightfield") continue;
-        auto* option = command.add_option_function<std::string>(
-            flag_name(key.name), [&settings, name = key.name](const std::string& value) {
-                settings.given.emplace_back(name, value);
-            },
-            key.help);
-        option->type_name(key.value_name);
-        if (!key.implicit.empty()) option->expected(0, 1)->default_str(key.implicit);
-    }
-    std::map<std::string, std::vector<std::string>> readers;
-    std::map<std::string, std::string> helps;
-    for (const MethodInfo& method : lobe_methods()) {
-        if (!method.answers(settings.quantity)) continue;
-        for (const MethodOption& option : method.options) {
-            readers[option.key].push_back(method.name);
-            helps[option.key] = option.help;
-        }
-    }
-    for (const auto& [key, methods] : readers)
-        command
-            .add_option_function<std::string>(
-                flag_name(key), [&settings, key](const std::string& value) { settings.given.emplace_back("option." + key, value); },
-                join(methods) + ": " + helps[key])
-            ->type_name("VALUE");
-    command.add_option("--option", settings.options, "Method option KEY=VALUE (repeatable)")->type_name("KEY=VALUE");
-}
 
 void add_output_flags(CLI::App& command, ImageCommandSettings& settings) {
     command.add_option("-o,--output", settings.output, "Output EXR (scene-linear float; the query in its header)")
@@ -117,12 +81,6 @@ void check_outputs(const ImageCommandSettings& settings) {
 QueryText query_text_of(const ImageCommandSettings& settings, const std::string& heightfield, std::string& method) {
     QueryText given = settings.given;
     if (!heightfield.empty()) given.emplace_back("heightfield", heightfield);
-    for (const std::string& option : settings.options) {
-        const auto equals = option.find('=');
-        if (equals == std::string::npos || equals == 0)
-            throw Error("--option '" + option + "' is not of the form KEY=VALUE");
-        given.emplace_back("option." + option.substr(0, equals), option.substr(equals + 1));
-    }
     given.emplace_back("quantity", to_string(settings.quantity));
     if (settings.from.empty()) return given;
     const Provenance recorded = read_output_metadata(settings.from);
@@ -176,7 +134,8 @@ void add_image_command(CLI::App& command, Quantity quantity, const std::string& 
     command.add_option("--method", *method, "Method (default " + default_method + "): " + join(names));
     command.add_option("--from", settings->from,
                        "Re-run the query recorded in an EXR, PNG or JSON this tool wrote; flags given override it");
-    add_query_flags(command, *settings);
+    add_query_flags(command, settings->given, quantity, {"quantity"});
+    add_method_option_flags(command, settings->given, quantity);
     add_output_flags(command, *settings);
     command.callback([settings, heightfield, method, default_method] {
         if (heightfield->empty() && settings->from.empty())

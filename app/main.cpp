@@ -1,4 +1,5 @@
 // glintscope: how a surface's microgeometry reflects light.
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -6,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "progress.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/parallel.hpp"
 #include "glintscope/version.hpp"
@@ -26,11 +28,17 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber)
         ->trigger_on_parse();
 
+    app.add_flag_function("--quiet", [](std::int64_t) { glintscope::cli::verbosity().quiet = true; },
+                          "No progress lines");
+    app.add_flag_function("--verbose", [](std::int64_t) { glintscope::cli::verbosity().verbose = true; },
+                          "Explain automatic choices (grids, kernel density, exposure)");
+
     glintscope::cli::add_generate_command(app);
     glintscope::cli::add_info_command(app);
     glintscope::cli::add_convert_command(app);
     glintscope::cli::add_preview_command(app);
     glintscope::cli::add_lobe_command(app);
+    glintscope::cli::add_validate_command(app);
 
     try {
         app.parse(argc, argv);

@@ -16,6 +16,13 @@ struct LayerComparison {
     double test_sum = 0.0;          // Σ t (2/N)²: albedo (brdf) or normalisation (ndf)
     double reference_sum = 0.0;
     double peak_offset_pixels = 0.0;  // distance between the two peaks' pixels
+    double peak_relative_error = 0.0; // |t − r|/r at the reference's peak pixel
+    // Root mean square of log10(t/r) over the pixels where r is above 1e-3 of its peak: how
+    // well the tails agree, which the relative L2 (dominated by the peak) does not show. A
+    // pixel where t ≤ 0 counts as log10 of 1e-3 of the peak over r.
+    double log_rms_error = 0.0;
+
+    double energy_ratio() const { return reference_sum != 0.0 ? test_sum / reference_sum : 0.0; }
 };
 
 // Per layer; throws Error when the images differ in resolution, quantity or wavelengths.

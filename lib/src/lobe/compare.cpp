@@ -1,5 +1,6 @@
 #include "glintscope/compare.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "glintscope/error.hpp"
@@ -16,6 +17,22 @@ void check_comparable(const LobeImage& test, const LobeImage& reference) {
         throw Error("cannot compare " + to_string(test.quantity) + " with " + to_string(reference.quantity));
     if (test.wavelengths_um != reference.wavelengths_um)
         throw Error("cannot compare images of different wavelengths");
+}
+
+double log_rms_error(const LobeImage& test, const LobeImage& reference, std::size_t layer, double reference_peak) {
+    const int n = test.resolution;
+    const double floor = 1e-3 * reference_peak;
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (int row = 0; row < n; ++row)
+        for (int col = 0; col < n; ++col) {
+            const double r = reference.at(layer, row, col);
+            if (!(r > floor) || !inside_unit_disk(disk_pixel_point(row, col, n))) continue;
+            const double t = std::max<double>(test.at(layer, row, col), floor);
+            sum += std::pow(std::log10(t / r), 2);
+            ++count;
+        }
+    return count ? std::sqrt(sum / count) : 0.0;
 }
 
 }  // namespace
@@ -52,6 +69,9 @@ std::vector<LayerComparison> compare_lobes(const LobeImage& test, const LobeImag
         result.reference_sum *= disk_pixel_area(n);
         result.peak_offset_pixels = std::hypot(test_peak_index / n - reference_peak_index / n,
                                                test_peak_index % n - reference_peak_index % n);
+        const float test_at_peak = test.values[layer * n * n + reference_peak_index];
+        result.peak_relative_error = reference_peak > 0.0f ? std::fabs(test_at_peak - reference_peak) / reference_peak : 0.0;
+        result.log_rms_error = log_rms_error(test, reference, layer, reference_peak);
         layers.push_back(result);
     }
     return layers;

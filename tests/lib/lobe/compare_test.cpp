@@ -31,6 +31,9 @@ TEST(CompareLobes, ScalingByOnePointOneIsTenPercentAndMovesNoPeak) {
     EXPECT_EQ(scaled.max_row, 16);
     EXPECT_EQ(scaled.max_col, 16);
     EXPECT_EQ(scaled.peak_offset_pixels, 0.0);
+    EXPECT_NEAR(scaled.peak_relative_error, 0.1, 1e-6);
+    EXPECT_NEAR(scaled.log_rms_error, std::log10(1.1), 1e-6);  // the same ratio at every pixel
+    EXPECT_NEAR(scaled.energy_ratio(), 1.1, 1e-6);
 }
 
 TEST(CompareLobes, SumsAreDiskIntegralsAndPeakOffsetsAreInPixels) {

@@ -1,0 +1,24 @@
+#pragma once
+// Command-line flags generated from the library's query keys and method table, so that every
+// command that takes a query (lobe, ndf, validate) spells and documents it the same way.
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "glintscope/image.hpp"
+#include "glintscope/query_keys.hpp"
+
+namespace glintscope::cli {
+
+// "--sigma-c" for the key "sigma_c".
+std::string flag_name(const std::string& key);
+
+// One flag per query key except the heightfield (a positional argument) and `skip`; each given
+// flag appends (key, value) to `given`, in command-line order.
+void add_query_flags(CLI::App& command, QueryText& given, Quantity quantity, const std::vector<std::string>& skip);
+
+// One flag per method option key of the methods answering `quantity` (help names the methods
+// that read it), and --option KEY=VALUE; each appends ("option.KEY", value) to `given`.
+void add_method_option_flags(CLI::App& command, QueryText& given, Quantity quantity);
+
+}  // namespace glintscope::cli

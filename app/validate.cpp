@@ -1,0 +1,134 @@
+// glintscope validate HEIGHTFIELD [query flags] --footprints N|grid[:N] --models LIST
+//   --kernels-per-texel LIST [--report OUT.json] [--csv OUT.csv] [--fail-above X]:
+// the Gabor method against the FFT ground truth (or any two methods) on the same queries.
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+#include "commands.hpp"
+#include "glintscope/atomic_output.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/query_keys.hpp"
+#include "glintscope/text_format.hpp"
+#include "glintscope/validate.hpp"
+#include "progress.hpp"
+#include "query_flags.hpp"
+
+namespace glintscope::cli {
+namespace {
+
+struct ValidateSettings {
+    std::string heightfield;
+    QueryText given;
+    std::string footprints = "1";
+    std::string models;
+    std::string kernels_per_texel;
+    std::string test_method = "gabor";
+    std::string reference_method = "fft";
+    std::string report;
+    std::string csv;
+    double fail_above = -1.0;
+};
+
+// "N" (seeded random centres), "grid" (3 × 3) or "grid:N" (⌈√N⌉² on a grid).
+std::vector<Point2> centres_of(const ValidateSettings& settings, const LobeQuery& query) {
+    const std::string& text = settings.footprints;
+    if (text == "1") return {query.footprint.centre_um};
+    const bool grid = text.starts_with("grid");
+    const std::string count = grid ? (text.size() > 5 && text[4] == ':' ? text.substr(5) : "9") : text;
+    try {
+        return footprint_centres(*query.field, query.footprint, static_cast<int>(parse_integer(count, 1, 100000)), grid);
+    } catch (const Error& e) {
+        throw Error("--footprints must be N, grid or grid:N: " + std::string(e.what()));
+    }
+}
+
+ValidationPlan plan_of(const ValidateSettings& settings) {
+    ValidationPlan plan;
+    QueryText text = settings.given;
+    text.emplace_back("heightfield", settings.heightfield);
+    plan.base = make_query(text);
+    plan.test_method = settings.test_method;
+    plan.reference_method = settings.reference_method;
+    lobe_method(plan.test_method);
+    lobe_method(plan.reference_method);
+    plan.centres = centres_of(settings, plan.base);
+    if (!settings.models.empty())
+        for (const std::string& name : split(settings.models, ',')) plan.models.push_back(parse_diffraction_model(name));
+    if (!settings.kernels_per_texel.empty())
+        for (const std::string& value : split(settings.kernels_per_texel, ','))
+            plan.kernels_per_texel.push_back(static_cast<int>(parse_integer(value, 1, 16)));
+    return plan;
+}
+
+void write_text(const std::string& path, const std::string& text) {
+    write_atomically(path, [&](const std::string& temporary) {
+        std::ofstream stream(temporary, std::ios::binary);
+        stream << text;
+        stream.close();
+        if (!stream) throw Error("cannot write '" + path + "'");
+    });
+}
+
+void print_table(const ValidationPlan& plan, const std::vector<ValidationRow>& rows) {
+    std::printf("%s against %s\n", plan.test_method.c_str(), plan.reference_method.c_str());
+    std::printf("%-22s %-9s %2s %9s %9s %9s %9s %8s %9s %9s\n", "centre [um]", "model", "K", "lambda", "rel L2",
+                "peak err", "log err", "energy", "t test", "t ref");
+    for (const ValidationRow& row : rows) {
+        const LayerComparison& c = row.comparison;
+        char centre[48];
+        std::snprintf(centre, sizeof centre, "%.1f,%.1f", row.centre_um.x, row.centre_um.y);
+        std::printf("%-22.22s %-9s %2s %9.4g %8.3f%% %8.3f%% %9.4f %8.4f %8.3fs %8.3fs\n", centre,
+                    to_string(row.model).c_str(), row.kernels_per_texel ? std::to_string(row.kernels_per_texel).c_str() : "-",
+                    c.wavelength_um, 100.0 * c.relative_l2, 100.0 * c.peak_relative_error, c.log_rms_error,
+                    c.energy_ratio(), row.test_seconds, row.reference_seconds);
+    }
+}
+
+void run(const ValidateSettings& settings) {
+    if (!settings.report.empty()) check_output_path(settings.report, {"json"}, "--report");
+    if (!settings.csv.empty()) check_output_path(settings.csv, {"csv"}, "--csv");
+    const ValidationPlan plan = plan_of(settings);
+    std::vector<ValidationRow> rows;
+    {
+        ProgressBar progress("validate");
+        rows = run_validation(plan, [&](std::size_t done, std::size_t total, const std::string& what) {
+            progress.update(done, total, what);
+        });
+    }
+    print_table(plan, rows);
+    if (!settings.report.empty()) write_text(settings.report, validation_json(plan, rows));
+    if (!settings.csv.empty()) write_text(settings.csv, validation_csv(rows));
+    if (settings.fail_above >= 0.0)
+        for (const ValidationRow& row : rows)
+            if (row.comparison.relative_l2 > settings.fail_above)
+                throw Error("relative L2 " + shortest_text(row.comparison.relative_l2) + " exceeds --fail-above " +
+                            shortest_text(settings.fail_above) + " (" + to_string(row.model) + ", lambda " +
+                            shortest_text(row.comparison.wavelength_um) + " um)");
+}
+
+}  // namespace
+
+void add_validate_command(CLI::App& app) {
+    auto settings = std::make_shared<ValidateSettings>();
+    CLI::App* command = app.add_subcommand(
+        "validate", "Compare a method (default gabor) with a reference (default fft) on the same queries");
+    command->add_option("heightfield", settings->heightfield, "Heightfield file, or builtin:KIND")->required();
+    add_query_flags(*command, settings->given, Quantity::brdf, {"quantity", "model"});
+    command->add_option("--footprints", settings->footprints,
+                        "Footprint centres: N seeded random ones, grid (3 x 3) or grid:N (default: the query's centre)");
+    command->add_option("--models", settings->models, "Diffraction models, comma-separated (default rohs)")
+        ->type_name("LIST");
+    command->add_option("--kernels-per-texel", settings->kernels_per_texel,
+                        "Gabor densities K, comma-separated (default the method's, 2)")
+        ->type_name("LIST");
+    command->add_option("--test-method", settings->test_method, "Method under test")->capture_default_str();
+    command->add_option("--reference-method", settings->reference_method, "Reference method")->capture_default_str();
+    command->add_option("--report", settings->report, "Full report as JSON");
+    command->add_option("--csv", settings->csv, "The rows as CSV");
+    command->add_option("--fail-above", settings->fail_above,
+                        "Exit non-zero when any relative L2 exceeds X (e.g. 0.06), after writing the report");
+    command->callback([settings] { run(*settings); });
+}
+
+}  // namespace glintscope::cli

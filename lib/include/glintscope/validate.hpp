@@ -1,0 +1,51 @@
+#pragma once
+// Validation of one method against another on the same queries: by default the Gabor kernels
+// (Yan 2018 §4–5) against the exact FFT ground truth (Yan 2018 eq. 6), over footprints, models,
+// kernel densities and wavelengths, with compare_lobes' numbers and the time of each.
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "glintscope/compare.hpp"
+#include "glintscope/lobe.hpp"
+
+namespace glintscope {
+
+struct ValidationPlan {
+    LobeQuery base;                          // heightfield, footprint shape and σ_c, ω_i, λ, ...
+    std::string test_method = "gabor";
+    std::string reference_method = "fft";
+    std::vector<Point2> centres;             // footprint centres (footprint_centres)
+    std::vector<DiffractionModel> models;    // default: the base query's model
+    std::vector<int> kernels_per_texel;      // the test method's option; empty: its default
+};
+
+struct ValidationRow {
+    Point2 centre_um;
+    DiffractionModel model = DiffractionModel::rohs;
+    int kernels_per_texel = 0;               // 0: the test method's default
+    LayerComparison comparison;              // one wavelength
+    double test_seconds = 0.0;               // for the whole query (all wavelengths)
+    double reference_seconds = 0.0;
+};
+
+// `count` footprint centres spread over the field: a grid of ⌈√count⌉² cells' centres when
+// `grid`, else seeded uniform positions; kept 3.25σ_c (or half a box) from the edges where the
+// field is large enough, so that a non-periodic scan is not read across its seam.
+std::vector<Point2> footprint_centres(const Heightfield& field, const Footprint& footprint, int count, bool grid,
+                                      unsigned seed = 1);
+
+// Progress: called after each computed lobe with (done, total, what was computed).
+using ProgressCallback = std::function<void(std::size_t done, std::size_t total, const std::string& what)>;
+
+// Every combination of centre × model × density, one row per wavelength. The reference lobe of a
+// (centre, model) is computed once and shared by the densities.
+std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress = {});
+
+// The rows as CSV (one header line, then one line per row) and as a JSON report (the plan's
+// base query keys, then the rows; numbers as JSON numbers).
+std::string validation_csv(const std::vector<ValidationRow>& rows);
+std::string validation_json(const ValidationPlan& plan, const std::vector<ValidationRow>& rows);
+
+}  // namespace glintscope
