@@ -7,7 +7,8 @@
 
 namespace glintscope {
 
-// Matplotlib's perceptually uniform maps (van der Walt & Smith 2015), dark to bright.
+// Matplotlib's perceptually uniform maps (van der Walt & Smith 2015), dark to bright, as
+// OpenImageIO provides them (ImageBufAlgo::color_map).
 enum class ColorMap { viridis, inferno };
 
 // "viridis" or "inferno"; throws Error naming the choices otherwise.
