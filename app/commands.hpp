@@ -10,5 +10,6 @@ void add_convert_command(CLI::App& app);
 void add_preview_command(CLI::App& app);
 void add_lobe_command(CLI::App& app);
 void add_validate_command(CLI::App& app);
+void add_batch_command(CLI::App& app);
 
 }  // namespace glintscope::cli

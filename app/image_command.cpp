@@ -30,6 +30,8 @@ struct ImageCommandSettings {
     bool log_scale = false;
     std::string colormap = "inferno";
     bool spectral_channels = false;
+    bool bare = false;
+    std::string exposure_from;
     std::string ocio_config;
     std::string colour_space = "lin_rec709";
 };
@@ -43,7 +45,10 @@ void add_output_flags(CLI::App& command, ImageCommandSettings& settings) {
     command.add_option("--json", settings.json, "Also write a JSON sidecar with the query and summary numbers");
     command.add_option("--illuminant", settings.illuminant, "d65 or e")->capture_default_str();
     command.add_option("--exposure", settings.exposure, "PNG exposure: auto or EV")->capture_default_str();
+    command.add_option("--exposure-from", settings.exposure_from,
+                       "PNG exposure of an earlier run's JSON sidecar, so that two pictures are exposed alike");
     command.add_flag("--log", settings.log_scale, "PNG on a log scale");
+    command.add_flag("--bare", settings.bare, "PNG: the image alone (no disk guides, caption or colour bar)");
     command.add_option("--colormap", settings.colormap, "Single-wavelength PNG: inferno, viridis or grey")
         ->capture_default_str();
     command.add_flag("--spectral-channels", settings.spectral_channels, "EXR: also one channel per wavelength");
@@ -65,8 +70,13 @@ LobeOutputOptions output_options(const ImageCommandSettings& settings) {
             throw Error("--exposure must be 'auto' or a number of stops, got '" + settings.exposure + "'");
         }
     }
+    if (!settings.exposure_from.empty()) {
+        if (settings.exposure != "auto") throw Error("--exposure and --exposure-from exclude each other");
+        options.colour.exposure_ev = recorded_exposure_ev(settings.exposure_from);
+    }
     options.colormap = settings.colormap;
     options.spectral_channels = settings.spectral_channels;
+    options.bare = settings.bare;
     return options;
 }
 

@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
     glintscope::cli::add_preview_command(app);
     glintscope::cli::add_lobe_command(app);
     glintscope::cli::add_validate_command(app);
+    glintscope::cli::add_batch_command(app);
 
     try {
         app.parse(argc, argv);

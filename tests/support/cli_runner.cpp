@@ -29,6 +29,12 @@ CliResult run_cli(const std::vector<std::string>& arguments) {
         command += ' ';
         command += shell_quote(argument);
     }
+    return run_shell(command);
+}
+
+std::string executable() { return shell_quote(GLINTSCOPE_EXE); }
+
+CliResult run_shell(std::string command) {
     command += " 2>&1";
     CliResult result;
     FILE* pipe = ::popen(command.c_str(), "r");

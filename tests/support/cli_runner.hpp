@@ -13,6 +13,11 @@ struct CliResult {
 
 CliResult run_cli(const std::vector<std::string>& arguments);
 
+// A shell command line (stdout and stderr together), and the executable's path, shell-quoted,
+// for command lines that drive it through other tools (GNU parallel, ulimit, ...).
+CliResult run_shell(std::string command);
+std::string executable();
+
 // A fresh directory under the system temporary directory, removed when the object dies.
 class TemporaryDirectory {
 public:

@@ -34,6 +34,7 @@ struct LobeOutputOptions {
     ColourSettings colour;
     bool spectral_channels = false;    // EXR of a spectral lobe: also one channel per wavelength
     std::string colormap = "inferno";  // PNG of a single wavelength: "inferno", "viridis" or "grey"
+    bool bare = false;                 // PNG: the image alone, without guides, caption or colour bar (figure.hpp)
 };
 
 struct WavelengthSummary {
@@ -53,10 +54,15 @@ std::string spectral_channel_name(double wavelength_um);
 
 void write_lobe_exr(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options);
 
-// Returns the exposure used (for single-wavelength colour maps: white_level is the legend top).
+// Annotated (figure.hpp: write_lobe_picture) unless options.bare. Returns the exposure used
+// (for single-wavelength colour maps: white_level is the top of the colour bar).
 DisplayExposure write_lobe_png(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options);
 
 void write_lobe_json(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options);
+
+// The PNG exposure (EV) recorded in a JSON sidecar written by write_lobe_json, so that another
+// picture can be exposed alike. Throws Error naming the file if it has none.
+double recorded_exposure_ev(const std::string& json_path);
 
 // By the extension of `path`: .exr, .png or .json; anything else throws Error.
 void write_lobe(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options);

@@ -31,6 +31,11 @@ using QueryText = std::vector<std::pair<std::string, std::string>>;
 // lambda / spectral) may not be combined.
 LobeQuery make_query(const QueryText& text);
 
+// The checks of make_query that need no heightfield (known keys, exclusions, every value's
+// syntax and range where a key can tell), for validating manifests before any work. Returns the
+// query with every key applied and no heightfield loaded.
+LobeQuery check_query_text(const QueryText& text);
+
 // The keys that reproduce the query exactly (omega_i and lambda as exact numbers).
 QueryText query_text(const LobeQuery& query);
 

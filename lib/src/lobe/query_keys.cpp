@@ -228,7 +228,7 @@ const std::vector<QueryKey>& query_keys() {
     return keys;
 }
 
-LobeQuery make_query(const QueryText& text) {
+LobeQuery check_query_text(const QueryText& text) {
     check_keys(text);
     LobeQuery query;
     for (const KeyBinding& binding : bindings()) {
@@ -243,6 +243,11 @@ LobeQuery make_query(const QueryText& text) {
     for (const auto& [key, value] : text)
         if (is_option_key(key)) query.method_options[key.substr(kOptionPrefix.size())] = value;
     if (query.source.argument.empty()) throw Error("the query names no heightfield");
+    return query;
+}
+
+LobeQuery make_query(const QueryText& text) {
+    LobeQuery query = check_query_text(text);
     set_heightfield(query, load_heightfield_source(query.source));
     if (!find_value(text, "centre")) query.footprint.centre_um = query.field->centre_um();
     return query;

@@ -10,10 +10,12 @@
 #include <set>
 
 #include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
 
 #include "glintscope/atomic_output.hpp"
 #include "glintscope/colormap.hpp"
 #include "glintscope/error.hpp"
+#include "glintscope/figure.hpp"
 #include "glintscope/text_format.hpp"
 
 namespace glintscope {
@@ -222,6 +224,10 @@ DisplayExposure write_lobe_png(const LobeImage& lobe, const std::string& path, c
     check_lobe(lobe);
     if (file_extension(path) != "png") throw Error("cannot write '" + path + "': a PNG file name must end in .png");
     check_colormap_option(options.colormap);
+    if (!options.bare) {
+        write_lobe_picture(lobe, path, options);
+        return display_exposure(lobe, options.colour);
+    }
     if (!is_spectral(lobe) && options.colormap != "grey") return write_colormap_png(lobe, path, options);
     const DisplayImage display = lobe_to_display(lobe, options.colour);
     OIIO::ImageSpec spec(display.resolution, display.resolution, 3, OIIO::TypeDesc::UINT8);
@@ -289,6 +295,16 @@ void write_lobe_json(const LobeImage& lobe, const std::string& path, const LobeO
         stream.close();
         if (!stream) throw Error("cannot write '" + path + "'");
     });
+}
+
+double recorded_exposure_ev(const std::string& json_path) {
+    std::ifstream stream(json_path);
+    if (!stream) throw Error("cannot read '" + json_path + "': no such file");
+    const nlohmann::json json = nlohmann::json::parse(stream, nullptr, false);
+    if (json.is_discarded() || !json.contains("colour") || !json["colour"].contains("png_exposure_ev") ||
+        !json["colour"]["png_exposure_ev"].is_number())
+        throw Error("cannot read an exposure from '" + json_path + "': not a glintscope JSON sidecar");
+    return json["colour"]["png_exposure_ev"].get<double>();
 }
 
 void write_lobe(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options) {

@@ -14,6 +14,7 @@
 #include "cli_runner.hpp"
 #include "scoped_ocio.hpp"
 #include "glintscope/error.hpp"
+#include "glintscope/figure.hpp"
 #include "glintscope/lobe_output.hpp"
 
 namespace glintscope {
@@ -166,7 +167,9 @@ TEST_F(LobeOutput, JsonSidecarCarriesMetadataWavelengthsAndSummary) {
 
 TEST_F(LobeOutput, PngIsDisplayEncodedWithExposureInItsText) {
     const std::string spectral = directory.file("spectral.png");
-    const DisplayExposure exposure = write_lobe_png(sample_lobe(16, spectral_bin_centres_um(8)), spectral, {});
+    LobeOutputOptions bare;
+    bare.bare = true;  // the image alone: one pixel per direction
+    const DisplayExposure exposure = write_lobe_png(sample_lobe(16, spectral_bin_centres_um(8)), spectral, bare);
     auto input = OIIO::ImageInput::open(spectral);
     ASSERT_TRUE(input);
     EXPECT_EQ(input->spec().width, 16);
@@ -174,7 +177,7 @@ TEST_F(LobeOutput, PngIsDisplayEncodedWithExposureInItsText) {
     EXPECT_EQ(input->spec().format, OIIO::TypeDesc::UINT8);
     EXPECT_EQ(std::stod(input->spec().get_string_attribute("glintscope:output.exposure_ev")), exposure.ev);
 
-    LobeOutputOptions grey;
+    LobeOutputOptions grey = bare;
     grey.colormap = "grey";
     grey.colour.exposure_ev = 0.0;
     LobeImage single = make_lobe_image(16, {0.5});
@@ -188,10 +191,18 @@ TEST_F(LobeOutput, PngIsDisplayEncodedWithExposureInItsText) {
     EXPECT_EQ(pixels[(8 * 16 + 8) * 3], 188);  // sRGB encoding of 0.5
 
     const std::string mapped = directory.file("mapped.png");
-    write_lobe_png(single, mapped, LobeOutputOptions{});  // inferno with a legend
+    write_lobe_png(single, mapped, bare);  // inferno with a legend
     auto mapped_input = OIIO::ImageInput::open(mapped);
     ASSERT_TRUE(mapped_input);
     EXPECT_GT(mapped_input->spec().width, 16);  // enlarged, with the colour bar beside it
+
+    // Annotated (the default): enlarged to a readable disk, with the exposure in its attributes.
+    const std::string annotated = directory.file("annotated.png");
+    const DisplayExposure shown = write_lobe_png(single, annotated, LobeOutputOptions{});
+    auto annotated_input = OIIO::ImageInput::open(annotated);
+    ASSERT_TRUE(annotated_input);
+    EXPECT_GE(annotated_input->spec().width, panel_size(16));
+    EXPECT_EQ(std::stod(annotated_input->spec().get_string_attribute("glintscope:output.exposure_ev")), shown.ev);
 }
 
 TEST_F(LobeOutput, RejectsBadRequestsWithoutLeavingFiles) {

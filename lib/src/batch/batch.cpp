@@ -1,0 +1,185 @@
+// Running a manifest: incremental, shardable panel computation and the assembly of the figure.
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "core/md5.hpp"
+#include "glintscope/atomic_output.hpp"
+#include "glintscope/batch.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/lobe_output.hpp"
+#include "glintscope/text_format.hpp"
+#include "glintscope/version.hpp"
+
+namespace glintscope {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path figure_path(const Manifest& manifest) {
+    const fs::path output(manifest.output);
+    return output.is_absolute() ? output : fs::path(manifest.path).parent_path() / output;
+}
+
+std::string file_md5(const std::string& path) {
+    std::ifstream stream(path, std::ios::binary);
+    if (!stream) throw Error("cannot read '" + path + "'");
+    const std::string bytes((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
+    return md5_hex(bytes.data(), bytes.size());
+}
+
+std::string heightfield_of(const QueryText& query) {
+    for (const auto& [key, value] : query)
+        if (key == "heightfield") return value;
+    return "";
+}
+
+// What a panel depends on: the tool's version, the method, the query text and the heightfield's
+// bytes (a builtin is its name: its recipe is part of the version).
+std::string panel_hash(const ManifestPanel& panel, std::map<std::string, std::string>& heightfield_hashes) {
+    const std::string heightfield = heightfield_of(panel.query);
+    if (!heightfield_hashes.count(heightfield))
+        heightfield_hashes[heightfield] = heightfield.starts_with("builtin:") ? heightfield : file_md5(heightfield);
+    std::string text = "glintscope " + version() + "\nmethod=" + panel.method + "\n";
+    for (const auto& [key, value] : panel.query) text += key + "=" + value + "\n";
+    text += "heightfield.md5=" + heightfield_hashes[heightfield] + "\n";
+    return md5_hex(text.data(), text.size());
+}
+
+bool up_to_date(const std::string& exr, const std::string& hash) {
+    if (!fs::exists(exr)) return false;
+    try {
+        const Provenance metadata = read_output_metadata(exr);
+        const auto it = metadata.find("batch.hash");
+        return it != metadata.end() && it->second == hash;
+    } catch (const Error&) {
+        return false;  // unreadable: recompute it
+    }
+}
+
+void compute_panel(const ManifestPanel& panel, const std::string& exr, const std::string& hash) {
+    LobeImage image = compute_lobe(panel.method, make_query(panel.query));
+    image.metadata["batch.hash"] = hash;
+    LobeOutputOptions options;
+    options.spectral_channels = true;  // so that the panel reads back exactly
+    write_lobe_exr(image, exr, options);
+    write_lobe_json(image, exr.substr(0, exr.size() - 4) + ".json", options);
+}
+
+void write_record(const Manifest& manifest, const std::string& path) {
+    nlohmann::ordered_json record;
+    record["format"] = "glintscope batch";
+    record["manifest"] = manifest.path;
+    record["title"] = manifest.title;
+    record["figure"] = figure_path(manifest).string();
+    record["rows"] = manifest.row_labels;
+    record["columns"] = manifest.column_labels;
+    nlohmann::ordered_json panels = nlohmann::ordered_json::array();
+    for (const ManifestPanel& panel : manifest.panels) {
+        nlohmann::ordered_json query;
+        for (const auto& [key, value] : panel.query) query[key] = value;
+        panels.push_back({{"row", panel.row},
+                          {"column", panel.column},
+                          {"method", panel.method},
+                          {"query", query},
+                          {"exr", panel_path(manifest, panel)}});
+    }
+    record["panels"] = panels;
+    write_atomically(path, [&](const std::string& temporary) {
+        std::ofstream stream(temporary, std::ios::binary);
+        stream << record.dump(2) << "\n";
+        stream.close();
+        if (!stream) throw Error("cannot write '" + path + "'");
+    });
+}
+
+void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchResult& result) {
+    std::vector<LobeImage> images;
+    images.reserve(manifest.panels.size());
+    for (const ManifestPanel& panel : manifest.panels) images.push_back(load_lobe_exr(panel_path(manifest, panel)));
+    Figure figure;
+    figure.title = manifest.title;
+    figure.caption = manifest.caption;
+    figure.row_labels = manifest.row_labels;
+    figure.column_labels = manifest.column_labels;
+    figure.exposure = manifest.exposure;
+    figure.cells.assign(manifest.row_labels.size(), std::vector<const LobeImage*>(manifest.column_labels.size()));
+    for (std::size_t k = 0; k < manifest.panels.size(); ++k)
+        figure.cells[manifest.panels[k].row][manifest.panels[k].column] = &images[k];
+    result.figure_path = figure_path(manifest).string();
+    write_figure(figure, result.figure_path, output);
+    result.record_path = result.figure_path.substr(0, result.figure_path.size() - 4) + ".json";
+    write_record(manifest, result.record_path);
+    result.assembled = true;
+}
+
+}  // namespace
+
+std::string panel_path(const Manifest& manifest, const ManifestPanel& panel) {
+    const fs::path figure = figure_path(manifest);
+    const fs::path folder = figure.parent_path() / (figure.stem().string() + ".panels");
+    return (folder / ("r" + std::to_string(panel.row + 1) + "-c" + std::to_string(panel.column + 1) + ".exr")).string();
+}
+
+BatchResult run_batch(const Manifest& manifest, const BatchOptions& options, const LobeOutputOptions& output,
+                      const BatchProgress& progress) {
+    if (options.shard_count < 1 || options.shard_index >= options.shard_count)
+        throw Error("shard " + std::to_string(options.shard_index + 1) + "/" + std::to_string(options.shard_count) +
+                    " does not exist");
+    const fs::path figure = figure_path(manifest);
+    check_output_path(figure.string(), {"png"}, "output");
+    std::error_code ec;
+    fs::create_directories(fs::path(panel_path(manifest, manifest.panels.front())).parent_path(), ec);
+    if (ec) throw Error("cannot create the panel folder beside '" + figure.string() + "': " + ec.message());
+
+    // This shard's panels (every shard_count-th, in row-major order) that need computing.
+    std::map<std::string, std::string> heightfield_hashes;
+    std::vector<std::pair<const ManifestPanel*, std::string>> to_compute;
+    BatchResult result;
+    for (std::size_t k = 0; k < manifest.panels.size(); ++k) {
+        if (k % options.shard_count != options.shard_index) continue;
+        const ManifestPanel& panel = manifest.panels[k];
+        const std::string hash = panel_hash(panel, heightfield_hashes);
+        if (!options.force && up_to_date(panel_path(manifest, panel), hash))
+            ++result.up_to_date;
+        else
+            to_compute.emplace_back(&panel, hash);
+    }
+
+    // --jobs panels at once; each still uses the worker threads for its own loops.
+    std::atomic<std::size_t> next{0}, done{0};
+    std::mutex mutex;
+    std::exception_ptr failure;
+    const auto work = [&] {
+        for (std::size_t k; (k = next++) < to_compute.size();) {
+            const auto& [panel, hash] = to_compute[k];
+            try {
+                compute_panel(*panel, panel_path(manifest, *panel), hash);
+            } catch (...) {
+                std::lock_guard lock(mutex);
+                if (!failure) failure = std::current_exception();
+                next = to_compute.size();
+            }
+            std::lock_guard lock(mutex);
+            if (progress)
+                progress(++done, to_compute.size(),
+                         manifest.row_labels[panel->row] + " / " + manifest.column_labels[panel->column]);
+        }
+    };
+    std::vector<std::thread> workers;
+    for (int j = 1; j < std::min<int>(options.jobs, int(to_compute.size())); ++j) workers.emplace_back(work);
+    work();
+    for (std::thread& worker : workers) worker.join();
+    if (failure) std::rethrow_exception(failure);
+    result.computed = to_compute.size();
+    if (options.shard_count == 1) assemble(manifest, output, result);
+    return result;
+}
+
+}  // namespace glintscope

@@ -1,0 +1,197 @@
+// Reading a batch manifest (TOML, through toml++) and checking it before any computation.
+#include <filesystem>
+
+#include <toml++/toml.h>
+
+#include "glintscope/batch.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/generate.hpp"
+#include "glintscope/text_format.hpp"
+
+namespace glintscope {
+namespace {
+
+// "FILE:LINE: key 'K': problem".
+[[noreturn]] void fail(const std::string& path, const toml::source_region& where, const std::string& key,
+                       const std::string& problem) {
+    throw Error(path + ":" + std::to_string(where.begin.line) + ": " + (key.empty() ? "" : "key '" + key + "': ") +
+                problem);
+}
+
+// A value as query-key text: strings as they are, numbers in shortest form, arrays joined by
+// commas ([20, 0] → "20,0").
+std::string value_text(const std::string& path, const std::string& key, const toml::node& node) {
+    if (const auto* text = node.as_string()) return text->get();
+    if (const auto* integer = node.as_integer()) return std::to_string(integer->get());
+    if (const auto* real = node.as_floating_point()) return shortest_text(real->get());
+    if (const auto* flag = node.as_boolean()) return flag->get() ? "true" : "false";
+    if (const auto* array = node.as_array()) {
+        std::vector<std::string> parts;
+        for (const toml::node& element : *array) {
+            if (element.is_array() || element.is_table()) fail(path, element.source(), key, "nested arrays or tables are not values");
+            parts.push_back(value_text(path, key, element));
+        }
+        return join(parts, ",");
+    }
+    fail(path, node.source(), key, "expected a string, a number or an array of them, got a table");
+}
+
+bool is_query_key(const std::string& key) {
+    if (key.starts_with("option.") && key.size() > 7) return true;
+    for (const QueryKey& known : query_keys())
+        if (known.name == key) return true;
+    return false;
+}
+
+// A method option of some method (e.g. kernels_per_texel): written in a manifest like a flag.
+bool is_method_option(const std::string& key) {
+    for (const MethodInfo& method : lobe_methods())
+        for (const MethodOption& option : method.options)
+            if (option.key == key) return true;
+    return false;
+}
+
+// The keys of a [defaults], [[row]] or [[column]] table: label (rows and columns), method,
+// query keys and method options (by name, or in an [option] sub-table).
+struct Entry {
+    std::string label;
+    std::string method;
+    QueryText query;
+    toml::source_region where;
+};
+
+Entry read_entry(const std::string& path, const toml::table& table, bool labelled) {
+    Entry entry;
+    entry.where = table.source();
+    for (const auto& [name, node] : table) {
+        const std::string key(name.str());
+        if (labelled && key == "label") {
+            if (!node.is_string()) fail(path, node.source(), key, "expected a string");
+            entry.label = node.as_string()->get();
+        } else if (key == "method") {
+            if (!node.is_string()) fail(path, node.source(), key, "expected a string");
+            entry.method = node.as_string()->get();
+        } else if (key == "option" && node.is_table()) {
+            for (const auto& [option, value] : *node.as_table())
+                entry.query.emplace_back("option." + std::string(option.str()), value_text(path, "option." + std::string(option.str()), value));
+        } else if (is_query_key(key)) {
+            entry.query.emplace_back(key, value_text(path, key, node));
+        } else if (is_method_option(key)) {
+            entry.query.emplace_back("option." + key, value_text(path, key, node));
+        } else {
+            fail(path, node.source(), key, std::string("unknown key (") + (labelled ? "label, " : "") +
+                                               "method, a method option or a query key: " + [] {
+                                                   std::vector<std::string> names;
+                                                   for (const QueryKey& known : query_keys()) names.push_back(known.name);
+                                                   return join(names);
+                                               }() + ")");
+        }
+    }
+    return entry;
+}
+
+std::vector<Entry> read_entries(const std::string& path, const toml::table& root, const std::string& key) {
+    const toml::node* node = root.get(key);
+    if (!node) fail(path, root.source(), "", "the manifest has no [[" + key + "]] (a figure needs at least one)");
+    const toml::array* array = node->as_array();
+    if (!array || !array->is_array_of_tables()) fail(path, node->source(), key, "expected [[" + key + "]] tables");
+    std::vector<Entry> entries;
+    for (const toml::node& element : *array) entries.push_back(read_entry(path, *element.as_table(), true));
+    return entries;
+}
+
+std::string string_value(const std::string& path, const toml::table& root, const std::string& key, bool required) {
+    const toml::node* node = root.get(key);
+    if (!node) {
+        if (required) fail(path, root.source(), key, "missing");
+        return "";
+    }
+    if (!node->is_string()) fail(path, node->source(), key, "expected a string");
+    return node->as_string()->get();
+}
+
+SharedExposure parse_exposure(const std::string& path, const toml::table& root) {
+    const std::string text = string_value(path, root, "exposure", false);
+    if (text.empty() || text == "shared-per-row") return SharedExposure::per_row;
+    if (text == "per-panel") return SharedExposure::per_panel;
+    if (text == "shared") return SharedExposure::whole_figure;
+    fail(path, root.get("exposure")->source(), "exposure", "'" + text + "' is not per-panel, shared-per-row or shared");
+}
+
+void check_heightfield(const std::string& argument, const std::string& base_dir) {
+    if (argument.starts_with("builtin:")) {
+        default_recipe(argument.substr(8));  // throws for unknown kinds
+        return;
+    }
+    const std::filesystem::path file = std::filesystem::path(argument).is_absolute() ? std::filesystem::path(argument)
+                                                                                      : std::filesystem::path(base_dir) / argument;
+    if (!std::filesystem::is_regular_file(file)) throw Error("heightfield '" + argument + "' does not exist");
+}
+
+// Relative heightfield paths are relative to the manifest's folder.
+void resolve_paths(QueryText& query, const std::string& base_dir) {
+    for (auto& [key, value] : query)
+        if (key == "heightfield" && !value.starts_with("builtin:") && !std::filesystem::path(value).is_absolute())
+            value = (std::filesystem::path(base_dir) / value).lexically_normal().string();
+}
+
+const std::vector<std::string> kTopKeys = {"title", "caption", "output", "exposure", "defaults", "row", "column"};
+
+}  // namespace
+
+Manifest load_manifest(const std::string& path) {
+    toml::table root;
+    try {
+        root = toml::parse_file(path);
+    } catch (const toml::parse_error& e) {
+        throw Error(path + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+    }
+    for (const auto& [name, node] : root)
+        if (std::find(kTopKeys.begin(), kTopKeys.end(), std::string(name.str())) == kTopKeys.end())
+            fail(path, node.source(), std::string(name.str()), "unknown key (" + join(kTopKeys) + ")");
+    Manifest manifest;
+    manifest.path = path;
+    manifest.title = string_value(path, root, "title", false);
+    manifest.caption = string_value(path, root, "caption", false);
+    manifest.output = string_value(path, root, "output", true);
+    if (!manifest.output.ends_with(".png")) fail(path, root.get("output")->source(), "output", "the figure must be a .png");
+    manifest.exposure = parse_exposure(path, root);
+    Entry defaults;
+    if (const toml::node* node = root.get("defaults")) {
+        if (!node->is_table()) fail(path, node->source(), "defaults", "expected a [defaults] table");
+        defaults = read_entry(path, *node->as_table(), false);
+    }
+    const std::vector<Entry> rows = read_entries(path, root, "row");
+    const std::vector<Entry> columns = read_entries(path, root, "column");
+    const std::string base_dir = std::filesystem::path(path).parent_path().string();
+    for (const Entry& row : rows) manifest.row_labels.push_back(row.label);
+    for (const Entry& column : columns) manifest.column_labels.push_back(column.label);
+    for (std::size_t r = 0; r < rows.size(); ++r)
+        for (std::size_t c = 0; c < columns.size(); ++c) {
+            ManifestPanel panel{r, c, "fft", merge_query_text(merge_query_text(defaults.query, rows[r].query), columns[c].query)};
+            for (const Entry* entry : std::initializer_list<const Entry*>{&defaults, &rows[r], &columns[c]})
+                if (!entry->method.empty()) panel.method = entry->method;
+            const toml::source_region& where = columns[c].where;
+            const std::string cell = "row " + std::to_string(r + 1) + " ('" + rows[r].label + "'), column " +
+                                     std::to_string(c + 1) + " ('" + columns[c].label + "'): ";
+            try {
+                const LobeQuery query = check_query_text(panel.query);
+                const MethodInfo method = lobe_method(panel.method);
+                if (!method.answers(query.quantity))
+                    throw Error("method '" + panel.method + "' does not compute " + to_string(query.quantity));
+                check_heightfield(query.source.argument, base_dir);
+            } catch (const Error& e) {
+                fail(path, where, "", cell + e.what());
+            }
+            resolve_paths(panel.query, base_dir);
+            manifest.panels.push_back(std::move(panel));
+        }
+    // One figure, one panel size: a grid of mixed resolutions cannot be laid out.
+    const int resolution = check_query_text(manifest.panels.front().query).resolution;
+    for (const ManifestPanel& panel : manifest.panels)
+        if (check_query_text(panel.query).resolution != resolution)
+            fail(path, root.source(), "res", "every panel of a figure needs the same resolution");
+    return manifest;
+}
+
+}  // namespace glintscope

@@ -1,0 +1,393 @@
+#include "glintscope/figure.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include "glintscope/atomic_output.hpp"
+#include "glintscope/colormap.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/geometry.hpp"
+#include "glintscope/text_format.hpp"
+
+namespace glintscope {
+namespace {
+
+using Colour = std::array<float, 3>;
+constexpr Colour kWhite{1.0f, 1.0f, 1.0f};
+constexpr Colour kBlack{0.0f, 0.0f, 0.0f};
+constexpr Colour kGuide{0.62f, 0.62f, 0.62f};    // disk outline and θ rings
+constexpr Colour kMarker{0.1f, 0.85f, 1.0f};     // mirror direction
+constexpr int kFont = 14;
+constexpr int kMargin = 8;
+constexpr int kBarWidth = 14;
+constexpr int kMinPanel = 320;
+
+const std::string& font() {
+    static const std::string name = [] {
+        for (const char* candidate : {"DejaVuSans", "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"})
+            if (OIIO::ImageBufAlgo::text_size("0", kFont, candidate).defined()) return std::string(candidate);
+        return std::string();
+    }();
+    if (name.empty()) throw Error("no font for picture text (install the fonts-dejavu-core package)");
+    return name;
+}
+
+int text_width(const std::string& text, int size = kFont) {
+    const OIIO::ROI box = OIIO::ImageBufAlgo::text_size(text, size, font());
+    return box.defined() ? box.width() : 0;
+}
+
+OIIO::ImageBuf blank(int width, int height) {
+    OIIO::ImageBuf picture(OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::FLOAT));
+    OIIO::ImageBufAlgo::fill(picture, kWhite);
+    return picture;
+}
+
+void text(OIIO::ImageBuf& picture, int x, int y, const std::string& line, const Colour& colour = kBlack,
+          OIIO::ImageBufAlgo::TextAlignX align = OIIO::ImageBufAlgo::TextAlignX::Left, int size = kFont) {
+    if (line.empty()) return;
+    if (!OIIO::ImageBufAlgo::render_text(picture, x, y, line, size, font(), colour, align,
+                                         OIIO::ImageBufAlgo::TextAlignY::Top))
+        throw Error("drawing text failed: " + picture.geterror());
+}
+
+// A circle of the unit disk's radius r (disk units) about the image centre, as a polyline.
+void circle(OIIO::ImageBuf& picture, int x0, int y0, int size, double r, const Colour& colour, bool dashed) {
+    const double half = 0.5 * size;
+    const int segments = 180;
+    for (int k = 0; k < segments; ++k) {
+        if (dashed && k % 2) continue;
+        const double a0 = 2.0 * pi * k / segments, a1 = 2.0 * pi * (k + 1) / segments;
+        OIIO::ImageBufAlgo::render_line(picture, x0 + int(std::lround(half + r * half * std::cos(a0))),
+                                        y0 + int(std::lround(half - r * half * std::sin(a0))),
+                                        x0 + int(std::lround(half + r * half * std::cos(a1))),
+                                        y0 + int(std::lround(half - r * half * std::sin(a1))), colour);
+    }
+}
+
+// The image position of disk point (x, y): columns along +x, row 0 at y = +1 (map view).
+std::pair<int, int> disk_to_pixel(int x0, int y0, int size, double x, double y) {
+    return {x0 + int(std::lround((x + 1.0) * 0.5 * size)), y0 + int(std::lround((1.0 - y) * 0.5 * size))};
+}
+
+// A ring with four ticks, two pixels thick, visible on dark and bright lobes alike.
+void marker(OIIO::ImageBuf& picture, int x, int y, const Colour& colour) {
+    for (int d = 0; d < 2; ++d) {
+        OIIO::ImageBufAlgo::render_line(picture, x - 12, y + d, x - 5, y + d, colour);
+        OIIO::ImageBufAlgo::render_line(picture, x + 5, y + d, x + 12, y + d, colour);
+        OIIO::ImageBufAlgo::render_line(picture, x + d, y - 12, x + d, y - 5, colour);
+        OIIO::ImageBufAlgo::render_line(picture, x + d, y + 5, x + d, y + 12, colour);
+    }
+}
+
+bool spectral(const LobeImage& lobe) { return lobe.layers() > 1; }
+
+std::string metadata(const LobeImage& lobe, const std::string& key) {
+    const auto it = lobe.metadata.find(key);
+    return it == lobe.metadata.end() ? "" : it->second;
+}
+
+bool applies(const LobeImage& lobe, const std::string& key) {
+    const std::string ignored = metadata(lobe, "not_applicable");
+    for (const std::string& name : split(ignored, ','))
+        if (name == key) return false;
+    return true;
+}
+
+std::string number(double value, int digits = 3) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
+    return buffer;
+}
+
+std::string wavelength_text(const LobeImage& lobe) {
+    if (!spectral(lobe)) return "lambda " + number(lobe.wavelengths_um[0] * 1e3, 4) + " nm";
+    return "lambda " + number(lobe.wavelengths_um.front() * 1e3, 4) + "-" + number(lobe.wavelengths_um.back() * 1e3, 4) +
+           " nm, " + std::to_string(lobe.layers()) + " bins";
+}
+
+// Caption lines from the image's metadata (lobe::compute_lobe writes them).
+std::vector<std::string> caption_lines(const LobeImage& lobe) {
+    std::vector<std::string> first = {metadata(lobe, "method").empty() ? "?" : metadata(lobe, "method")};
+    if (applies(lobe, "model") && lobe.quantity == Quantity::brdf && !metadata(lobe, "query.model").empty())
+        first.push_back(metadata(lobe, "query.model"));
+    if (applies(lobe, "material") && metadata(lobe, "query.material") != "none" && !metadata(lobe, "query.material").empty())
+        first.push_back(metadata(lobe, "query.material"));
+    std::vector<std::string> second;
+    if (applies(lobe, "lambda")) second.push_back(wavelength_text(lobe));
+    if (applies(lobe, "omega_i") && !metadata(lobe, "info.theta_i_deg").empty())
+        second.push_back("theta_i " + number(std::stod(metadata(lobe, "info.theta_i_deg"))) + " deg, phi_i " +
+                         number(std::stod(metadata(lobe, "info.phi_i_deg"))) + " deg");
+    if (!metadata(lobe, "query.sigma_c").empty())
+        second.push_back("sigma_c " + number(std::stod(metadata(lobe, "query.sigma_c"))) + " um");
+    else if (!metadata(lobe, "query.box").empty())
+        second.push_back("box " + number(std::stod(metadata(lobe, "query.box"))) + " um");
+    const std::string guides = lobe.quantity == Quantity::brdf ? "rings: theta_o 30, 60 deg; cyan: mirror direction"
+                                                               : "rings: theta_h 30, 60 deg; cyan: mean normal n";
+    return {join(first, ", "), join(second, ", "), guides};
+}
+
+// Display value in [0, 1] of a scalar (one-wavelength or NDF) pixel under the exposure.
+double shown(double value, const DisplayExposure& exposure) {
+    if (!exposure.log_scale) return value / exposure.white_level;
+    if (!(value > 0.0)) return 0.0;
+    return std::clamp(1.0 + std::log10(value / exposure.white_level) / exposure.log_decades, 0.0, 1.0);
+}
+
+// The N×N display colours of the disk (and the number of disk pixels above white).
+struct DiskColours {
+    std::vector<Colour> pixels;
+    std::size_t clipped = 0;
+};
+
+DiskColours disk_colours(const LobeImage& lobe, const LobeOutputOptions& options, const DisplayExposure& exposure) {
+    const int n = lobe.resolution;
+    DiskColours result;
+    result.pixels.assign(std::size_t(n) * n, kWhite);
+    std::vector<std::uint8_t> display;
+    std::vector<float> xyz;
+    if (spectral(lobe)) {
+        ColourSettings settings = options.colour;
+        settings.exposure_ev = exposure.ev;
+        display = lobe_to_display(lobe, settings).pixels;
+        xyz = lobe_to_xyz(lobe, settings.illuminant);
+    }
+    const ColorMap map = options.colormap == "viridis" ? ColorMap::viridis : ColorMap::inferno;
+    for (int row = 0; row < n; ++row)
+        for (int col = 0; col < n; ++col) {
+            if (!inside_unit_disk(disk_pixel_point(row, col, n))) continue;
+            const std::size_t i = std::size_t(row) * n + col;
+            if (spectral(lobe)) {
+                result.pixels[i] = {display[3 * i] / 255.0f, display[3 * i + 1] / 255.0f, display[3 * i + 2] / 255.0f};
+                if (!exposure.log_scale && xyz[3 * i + 1] > exposure.white_level) ++result.clipped;
+                continue;
+            }
+            const double value = lobe.at(0, row, col);
+            const double t = shown(value, exposure);
+            if (!exposure.log_scale && t > 1.0) ++result.clipped;
+            if (options.colormap == "grey") {
+                const float grey = float(std::clamp(t, 0.0, 1.0));
+                result.pixels[i] = {grey, grey, grey};
+            } else {
+                const SrgbColor c = map_color(map, t);
+                result.pixels[i] = {c.r, c.g, c.b};
+            }
+        }
+    return result;
+}
+
+// Draws the disk image, zoomed by an integer factor to `size`, at (x0, y0), with the guides.
+void draw_disk(OIIO::ImageBuf& picture, int x0, int y0, int size, const LobeImage& lobe, const DiskColours& colours) {
+    const int n = lobe.resolution;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const std::size_t i = std::size_t(y * n / size) * n + std::size_t(x * n / size);
+            picture.setpixel(x0 + x, y0 + y, colours.pixels[i].data(), 3);
+        }
+    circle(picture, x0, y0, size, 1.0, kGuide, false);
+    circle(picture, x0, y0, size, std::sin(pi / 6.0), kGuide, true);
+    circle(picture, x0, y0, size, std::sin(pi / 3.0), kGuide, true);
+    text(picture, x0 + size / 2 + 3, y0 + int(0.5 * size * (1.0 - std::sin(pi / 6.0))) + 2, "30 deg", kGuide,
+         OIIO::ImageBufAlgo::TextAlignX::Left, 11);
+    text(picture, x0 + size / 2 + 3, y0 + int(0.5 * size * (1.0 - std::sin(pi / 3.0))) + 2, "60 deg", kGuide,
+         OIIO::ImageBufAlgo::TextAlignX::Left, 11);
+    if (lobe.quantity == Quantity::brdf) {
+        // Mirror direction of ω_i: −ω̄_i (conventions.md), if the query recorded ω_i.
+        const std::vector<std::string> parts = split(metadata(lobe, "query.omega_i"), ',');
+        if (parts.size() == 3) {
+            const auto [x, y] = disk_to_pixel(x0, y0, size, -parse_number(parts[0]), -parse_number(parts[1]));
+            marker(picture, x, y, kMarker);
+        }
+    } else {
+        const auto [x, y] = disk_to_pixel(x0, y0, size, 0.0, 0.0);
+        marker(picture, x, y, kMarker);
+    }
+}
+
+// A vertical colour bar from 0 (or the log floor) to white, labelled, at (x0, y0).
+int draw_colour_bar(OIIO::ImageBuf& picture, int x0, int y0, int height, const LobeImage& lobe,
+                    const LobeOutputOptions& options, const DisplayExposure& exposure) {
+    const ColorMap map = options.colormap == "viridis" ? ColorMap::viridis : ColorMap::inferno;
+    for (int y = 0; y < height; ++y) {
+        const double t = 1.0 - (y + 0.5) / height;
+        Colour c{float(t), float(t), float(t)};
+        if (options.colormap != "grey") {
+            const SrgbColor m = map_color(map, t);
+            c = {m.r, m.g, m.b};
+        }
+        for (int x = 0; x < kBarWidth; ++x) picture.setpixel(x0 + x, y0 + y, c.data(), 3);
+    }
+    OIIO::ImageBufAlgo::render_box(picture, x0 - 1, y0 - 1, x0 + kBarWidth, y0 + height, kBlack);
+    const QuantityLabels& label = labels(lobe.quantity);
+    const double bottom = exposure.log_scale ? exposure.white_level * std::pow(10.0, -exposure.log_decades) : 0.0;
+    text(picture, x0 + kBarWidth + 4, y0 - 2, number(exposure.white_level));
+    text(picture, x0 + kBarWidth + 4, y0 + height - kFont - 2, number(bottom));
+    const std::string unit = label.symbol + (label.units == "1" ? "" : " [" + label.units + "]") +
+                             (exposure.log_scale ? ", log" : "");
+    text(picture, x0 + kBarWidth + 4, y0 + height / 2 - kFont / 2, unit);
+    return kBarWidth + 8 + std::max({text_width(number(exposure.white_level)), text_width(number(bottom)), text_width(unit)});
+}
+
+int bar_space(const LobeImage& lobe, const DisplayExposure& exposure) {
+    if (spectral(lobe)) return 0;
+    const QuantityLabels& label = labels(lobe.quantity);
+    const std::string unit = label.symbol + (label.units == "1" ? "" : " [" + label.units + "]") + ", log";
+    return kMargin + kBarWidth + 8 + std::max(text_width(number(exposure.white_level)), text_width(unit));
+}
+
+std::string exposure_line(const LobeImage& lobe, const DisplayExposure& exposure) {
+    if (!spectral(lobe)) return "";
+    return "exposure " + number(exposure.ev) + " EV: white = " + number(exposure.white_level) + " " +
+           labels(lobe.quantity).units + (exposure.log_scale ? ", log scale" : "");
+}
+
+std::string clip_line(std::size_t clipped) {
+    return clipped ? std::to_string(clipped) + " pixel" + (clipped == 1 ? "" : "s") + " above white (clipped)" : "";
+}
+
+// One annotated panel: the disk with guides, its colour bar, and `lines` of caption below.
+OIIO::ImageBuf panel(const LobeImage& lobe, const LobeOutputOptions& options, const DisplayExposure& exposure,
+                     std::vector<std::string> lines) {
+    const int size = panel_size(lobe.resolution);
+    const DiskColours colours = disk_colours(lobe, options, exposure);
+    lines.push_back(exposure_line(lobe, exposure));
+    lines.push_back(clip_line(colours.clipped));
+    lines.erase(std::remove(lines.begin(), lines.end(), std::string()), lines.end());
+    int width = kMargin + size + bar_space(lobe, exposure) + kMargin;
+    for (const std::string& line : lines) width = std::max(width, 2 * kMargin + text_width(line));
+    const int line_height = kFont + 5;
+    OIIO::ImageBuf picture = blank(width, kMargin + size + kMargin + int(lines.size()) * line_height + kMargin);
+    draw_disk(picture, kMargin, kMargin, size, lobe, colours);
+    if (!spectral(lobe)) draw_colour_bar(picture, kMargin + size + kMargin, kMargin, size, lobe, options, exposure);
+    for (std::size_t k = 0; k < lines.size(); ++k)
+        text(picture, kMargin, kMargin + size + kMargin + int(k) * line_height, lines[k]);
+    return picture;
+}
+
+void write_png(OIIO::ImageBuf& picture, const std::string& path, const Provenance& metadata = {}) {
+    // The same "glintscope:" attributes as every output, so that a picture re-runs (query_keys.hpp).
+    for (const auto& [key, value] : metadata) picture.specmod().attribute("glintscope:" + key, value);
+    write_atomically(path, [&](const std::string& file) {
+        if (!picture.write(file, OIIO::TypeDesc::UINT8, "png"))
+            throw Error("cannot write '" + path + "': " + picture.geterror());
+    });
+}
+
+DisplayExposure exposure_of(const LobeImage& lobe, const ColourSettings& settings) {
+    return display_exposure(lobe, settings);
+}
+
+void paste(OIIO::ImageBuf& canvas, const OIIO::ImageBuf& picture, int x, int y) {
+    if (!OIIO::ImageBufAlgo::paste(canvas, x, y, 0, 0, picture)) throw Error("composing the figure failed: " + canvas.geterror());
+}
+
+}  // namespace
+
+int panel_size(int resolution) {
+    const int zoom = std::max(1, (kMinPanel + resolution - 1) / resolution);
+    return resolution * zoom;
+}
+
+DisplayExposure shared_exposure(const std::vector<const LobeImage*>& images, const ColourSettings& settings) {
+    DisplayExposure brightest;
+    bool first = true;
+    for (const LobeImage* image : images) {
+        if (!image) continue;
+        const DisplayExposure exposure = exposure_of(*image, settings);
+        if (first || exposure.white_level > brightest.white_level) brightest = exposure;
+        first = false;
+    }
+    if (!settings.exposure_ev) brightest.rule = "shared: the brightest panel's " + brightest.rule.substr(brightest.rule.find(' ') + 1);
+    return brightest;
+}
+
+void write_lobe_picture(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options) {
+    if (file_extension(path) != "png") throw Error("cannot write '" + path + "': a PNG file name must end in .png");
+    const DisplayExposure exposure = exposure_of(lobe, options.colour);
+    OIIO::ImageBuf picture = panel(lobe, options, exposure, caption_lines(lobe));
+    Provenance metadata = lobe.metadata;
+    metadata["output.exposure_ev"] = shortest_text(exposure.ev);
+    metadata["output.exposure_rule"] = exposure.rule;
+    write_png(picture, path, metadata);
+}
+
+void write_figure(const Figure& figure, const std::string& path, const LobeOutputOptions& options) {
+    if (figure.cells.empty() || figure.cells.front().empty()) throw Error("cannot write '" + path + "': the figure has no panels");
+    const std::size_t columns = figure.cells.front().size();
+    int resolution = 0;
+    for (const auto& row : figure.cells) {
+        if (row.size() != columns) throw Error("cannot write '" + path + "': the figure's rows differ in length");
+        for (const LobeImage* image : row)
+            if (image) {
+                if (resolution && image->resolution != resolution)
+                    throw Error("cannot write '" + path + "': the panels differ in resolution");
+                resolution = image->resolution;
+            }
+    }
+    if (!resolution) throw Error("cannot write '" + path + "': every cell of the figure is empty");
+
+    // Exposures: per panel, per row, or one for the figure (each shared among panels of one quantity).
+    std::vector<std::vector<DisplayExposure>> exposures(figure.cells.size(), std::vector<DisplayExposure>(columns));
+    const auto share = [&](const std::vector<std::pair<std::size_t, std::size_t>>& members) {
+        for (Quantity quantity : {Quantity::brdf, Quantity::ndf}) {
+            std::vector<const LobeImage*> group;
+            for (const auto& [r, c] : members)
+                if (figure.cells[r][c] && figure.cells[r][c]->quantity == quantity) group.push_back(figure.cells[r][c]);
+            if (group.empty()) continue;
+            const DisplayExposure exposure = shared_exposure(group, options.colour);
+            for (const auto& [r, c] : members)
+                if (figure.cells[r][c] && figure.cells[r][c]->quantity == quantity) exposures[r][c] = exposure;
+        }
+    };
+    std::vector<std::pair<std::size_t, std::size_t>> all;
+    for (std::size_t r = 0; r < figure.cells.size(); ++r) {
+        std::vector<std::pair<std::size_t, std::size_t>> row;
+        for (std::size_t c = 0; c < columns; ++c) row.emplace_back(r, c);
+        if (figure.exposure == SharedExposure::per_row) share(row);
+        if (figure.exposure == SharedExposure::per_panel)
+            for (const auto& cell : row) share({cell});
+        all.insert(all.end(), row.begin(), row.end());
+    }
+    if (figure.exposure == SharedExposure::whole_figure) share(all);
+
+    // Panels: each cell drawn with its own second caption line (λ, angles, footprint).
+    std::vector<std::vector<OIIO::ImageBuf>> panels(figure.cells.size());
+    int cell_width = 0, cell_height = 0;
+    for (std::size_t r = 0; r < figure.cells.size(); ++r)
+        for (std::size_t c = 0; c < columns; ++c) {
+            const LobeImage* image = figure.cells[r][c];
+            panels[r].push_back(image ? panel(*image, options, exposures[r][c], caption_lines(*image)) : blank(1, 1));
+            cell_width = std::max(cell_width, panels[r].back().spec().width);
+            cell_height = std::max(cell_height, panels[r].back().spec().height);
+        }
+    int label_width = 0;
+    for (const std::string& label : figure.row_labels) label_width = std::max(label_width, text_width(label) + 2 * kMargin);
+    const int title_height = figure.title.empty() ? kMargin : kFont + 4 + 2 * kMargin;
+    const int header_height = figure.column_labels.empty() ? 0 : kFont + 2 * kMargin;
+    const std::string rule = figure.exposure == SharedExposure::per_panel ? "each panel exposed on its own"
+                           : figure.exposure == SharedExposure::per_row   ? "one exposure per row"
+                                                                          : "one exposure for the whole figure";
+    const std::string caption = figure.caption.empty() ? rule : figure.caption + "; " + rule;
+    const int width = std::max(label_width + int(columns) * cell_width, 2 * kMargin + text_width(caption));
+    const int height = title_height + header_height + int(figure.cells.size()) * cell_height + kFont + 3 * kMargin;
+    OIIO::ImageBuf canvas = blank(width, height);
+    text(canvas, width / 2, kMargin, figure.title, kBlack, OIIO::ImageBufAlgo::TextAlignX::Center, kFont + 4);
+    for (std::size_t c = 0; c < figure.column_labels.size() && c < columns; ++c)
+        text(canvas, label_width + int(c) * cell_width + cell_width / 2, title_height + kMargin / 2,
+             figure.column_labels[c], kBlack, OIIO::ImageBufAlgo::TextAlignX::Center);
+    for (std::size_t r = 0; r < figure.cells.size(); ++r) {
+        const int y = title_height + header_height + int(r) * cell_height;
+        if (r < figure.row_labels.size()) text(canvas, kMargin, y + cell_height / 2 - kFont, figure.row_labels[r]);
+        for (std::size_t c = 0; c < columns; ++c)
+            if (figure.cells[r][c]) paste(canvas, panels[r][c], label_width + int(c) * cell_width, y);
+    }
+    text(canvas, kMargin, height - kFont - 2 * kMargin, caption);
+    write_png(canvas, path);
+}
+
+}  // namespace glintscope

@@ -1,0 +1,157 @@
+// Batch figures: manifests checked before work, incremental panels, shards that assemble the
+// same figure as one run, bit for bit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include "cli_runner.hpp"
+#include "glintscope/batch.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/heightfield_io.hpp"
+
+namespace glintscope {
+namespace {
+
+using testing::TemporaryDirectory;
+
+void write_file(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+std::string read_bytes(const std::string& path) {
+    std::ifstream stream(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
+}
+
+// A 64² rough field and a 2 × 2 manifest over it (two incident angles × two methods).
+std::string small_manifest(const TemporaryDirectory& directory, const std::string& extra_row = "") {
+    Heightfield field = make_heightfield(64, 64, 0.5);
+    for (int r = 0; r < 64; ++r)
+        for (int c = 0; c < 64; ++c) field.at(r, c) = float(0.2 * std::sin(0.4 * c) * std::cos(0.3 * r));
+    save_heightfield(directory.file("rough.exr"), field);
+    const std::string manifest = directory.file("figure.toml");
+    write_file(manifest, R"(title = "Small test figure"
+output = "figure.png"
+exposure = "shared-per-row"
+[defaults]
+heightfield = "rough.exr"
+sigma_c = "3um"
+res = 32
+[[row]]
+label = "normal"
+incident = [0, 0]
+[[row]]
+label = "oblique")" + extra_row + R"(
+incident = [30, 0]
+[[column]]
+label = "gabor"
+method = "gabor"
+kernels_per_texel = 1
+[[column]]
+label = "fft"
+method = "fft"
+)");
+    return manifest;
+}
+
+TEST(Batch, TheFigureHasOnePanelPerCellAndRerunsComputeNothing) {
+    TemporaryDirectory directory;
+    const Manifest manifest = load_manifest(small_manifest(directory));
+    ASSERT_EQ(manifest.panels.size(), 4u);
+    EXPECT_EQ(manifest.panels[2].method, "gabor");  // row-major: (row 2, column 1)
+    const BatchResult first = run_batch(manifest, {}, {});
+    EXPECT_EQ(first.computed, 4u);
+    ASSERT_TRUE(first.assembled);
+    OIIO::ImageBuf figure(first.figure_path);
+    ASSERT_TRUE(figure.read());
+    // Two panel widths at least (each ≥ the 320-pixel disk), two rows of panels.
+    EXPECT_GE(figure.spec().width, 2 * panel_size(32));
+    EXPECT_GE(figure.spec().height, 2 * panel_size(32));
+    const BatchResult again = run_batch(manifest, {}, {});
+    EXPECT_EQ(again.computed, 0u);
+    EXPECT_EQ(again.up_to_date, 4u);
+    EXPECT_EQ(read_bytes(again.figure_path), read_bytes(first.figure_path));
+}
+
+TEST(Batch, ChangingOneParameterRecomputesExactlyThePanelsItReaches) {
+    TemporaryDirectory directory;
+    run_batch(load_manifest(small_manifest(directory)), {}, {});
+    // A key of the oblique row reaches its two panels, and nothing else.
+    EXPECT_EQ(run_batch(load_manifest(small_manifest(directory, "\nlambda = \"0.6um\"")), {}, {}).computed, 2u);
+    // A key of the fft column alone, in that same state, reaches one panel per row; one method
+    // option of one column in a one-row figure reaches exactly one panel.
+    std::string text = read_bytes(directory.file("figure.toml"));
+    text.replace(text.find("method = \"fft\""), 14, "method = \"fft\"\nwindow = 5");
+    const std::size_t oblique = text.find("[[row]]\nlabel = \"oblique\"");
+    text.erase(oblique, text.find("[[column]]") - oblique);  // one row left: normal incidence
+    write_file(directory.file("figure.toml"), text);
+    EXPECT_EQ(run_batch(load_manifest(directory.file("figure.toml")), {}, {}).computed, 1u);
+}
+
+TEST(Batch, TwoShardsAssembleTheSameFigureAsOneRun) {
+    TemporaryDirectory one, two;
+    const BatchResult single = run_batch(load_manifest(small_manifest(one)), {}, {});
+    const Manifest manifest = load_manifest(small_manifest(two));
+    const BatchResult first = run_batch(manifest, {0, 2, false, 1}, {});
+    const BatchResult second = run_batch(manifest, {1, 2, false, 1}, {});
+    EXPECT_FALSE(first.assembled);
+    EXPECT_EQ(first.computed + second.computed, 4u);
+    const BatchResult assembled = run_batch(manifest, {}, {});
+    EXPECT_EQ(assembled.computed, 0u);
+    EXPECT_EQ(read_bytes(assembled.figure_path), read_bytes(single.figure_path));
+}
+
+std::string manifest_error(const std::string& text) {
+    TemporaryDirectory directory;
+    write_file(directory.file("m.toml"), text);
+    try {
+        load_manifest(directory.file("m.toml"));
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(Batch, MalformedManifestsNameFileLineAndKey) {
+    const std::string head = "output = \"f.png\"\n[[row]]\nlabel = \"a\"\nheightfield = \"builtin:grating\"\n";
+    const std::string column = "[[column]]\nlabel = \"b\"\n";
+    EXPECT_NE(manifest_error(head + column + "colour = \"red\"\n").find("m.toml:7: key 'colour': unknown key"),
+              std::string::npos);
+    EXPECT_NE(manifest_error(head + column + "res = { a = 1 }\n").find("m.toml:7: key 'res'"), std::string::npos);
+    EXPECT_NE(manifest_error(head + column + "res = \"many\"\n").find("query key res"), std::string::npos);
+    EXPECT_NE(manifest_error("output = \"f.png\"\n[[row]]\nlabel = \"a\"\nheightfield = \"nothere.exr\"\n" + column)
+                  .find("heightfield 'nothere.exr' does not exist"),
+              std::string::npos);
+    EXPECT_NE(manifest_error(head).find("no [[column]]"), std::string::npos);
+    EXPECT_NE(manifest_error(head + column + "method = \"raytrace\"\n").find("unknown method 'raytrace'"),
+              std::string::npos);
+    EXPECT_NE(manifest_error("output = \"f.png\"\n[[row\n").find("m.toml:2:"), std::string::npos);
+}
+
+// The label text is drawn: the figure with labels differs from the one without exactly where the
+// label's rendered text lies (its width as OpenImageIO measures the text alone).
+TEST(Figure, LabelsAreDrawnWhereAndAsWideAsTheTextAlone) {
+    TemporaryDirectory directory;
+    LobeImage lobe = make_lobe_image(32, {0.5});
+    lobe.at(0, 16, 16) = 1.0f;
+    Figure figure;
+    figure.cells = {{&lobe}};
+    figure.column_labels = {""};
+    write_figure(figure, directory.file("plain.png"), {});
+    figure.column_labels = {"A column label"};
+    write_figure(figure, directory.file("labelled.png"), {});
+    OIIO::ImageBuf plain(directory.file("plain.png")), labelled(directory.file("labelled.png"));
+    ASSERT_TRUE(plain.read() && labelled.read());
+    ASSERT_EQ(plain.spec().width, labelled.spec().width);
+    const OIIO::ROI changed = OIIO::ImageBufAlgo::nonzero_region(OIIO::ImageBufAlgo::absdiff(plain, labelled));
+    ASSERT_TRUE(changed.defined());
+    const OIIO::ROI text = OIIO::ImageBufAlgo::text_size("A column label", 14, "DejaVuSans");
+    EXPECT_NEAR(changed.width(), text.width(), 3);
+    EXPECT_LT(changed.ybegin, 60);  // in the header, above the panel
+}
+
+}  // namespace
+}  // namespace glintscope
