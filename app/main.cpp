@@ -1,6 +1,9 @@
 // glintscope: how a surface's microgeometry reflects light.
 #include <cstdint>
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
+#include <vector>
 #include <exception>
 #include <string>
 
@@ -12,9 +15,51 @@
 #include "glintscope/parallel.hpp"
 #include "glintscope/version.hpp"
 
+namespace {
+
+// Edit distance, for suggesting the command a typo meant.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t above = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+
+// The first word that is not an option must be a command; if it is not, the usage error says
+// which one is closest.
+std::string unknown_command(const CLI::App& app, int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string word = argv[i];
+        if (word.starts_with("-")) {
+            if (word == "--threads") ++i;  // its value (--threads=N is one word)
+            continue;
+        }
+        std::string closest;
+        std::size_t best = SIZE_MAX;
+        for (const CLI::App* command : app.get_subcommands({})) {
+            if (command->get_name() == word) return "";
+            const std::size_t distance = edit_distance(word, command->get_name());
+            if (distance < best) best = distance, closest = command->get_name();
+        }
+        return "unknown command '" + word + "'" + (best <= 2 ? " (did you mean '" + closest + "'?)" : " (see --help)");
+    }
+    return "";
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     CLI::App app{"glintscope: heightfields, their reflection lobes and normal distributions.\n"
-                 "Lengths are micrometres unless suffixed (0.5um, 500nm, 2mm); angles are degrees."};
+                 "Lengths are micrometres unless suffixed (0.5um, 500nm, 2mm); angles are degrees.",
+                 "glintscope"};
     app.require_subcommand(1);
     // Usage errors are one line like every other error; exit status 2 marks them.
     app.failure_message([](const CLI::App*, const CLI::Error& e) {
@@ -41,6 +86,10 @@ int main(int argc, char** argv) {
     glintscope::cli::add_validate_command(app);
     glintscope::cli::add_batch_command(app);
 
+    if (const std::string problem = unknown_command(app, argc, argv); !problem.empty()) {
+        std::fprintf(stderr, "glintscope: error: %s\n", problem.c_str());
+        return 2;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
