@@ -1,8 +1,12 @@
 #pragma once
 // One subcommand per file; each adds itself to the CLI and calls into the library.
 #include <CLI/CLI.hpp>
+#include <string>
 
 namespace glintscope::cli {
+
+// The command line as typed, recorded in every output's metadata ("command_line").
+std::string& invocation();
 
 void add_generate_command(CLI::App& app);
 void add_info_command(CLI::App& app);

@@ -1,5 +1,6 @@
 #include "image_command.hpp"
 
+#include "commands.hpp"
 #include "query_flags.hpp"
 
 #include <algorithm>
@@ -122,7 +123,8 @@ void run(const ImageCommandSettings& settings, const std::string& heightfield, s
     validate(query);
     for (const std::string& warning : query_warnings(method, query))
         std::fprintf(stderr, "glintscope: warning: %s\n", warning.c_str());
-    const LobeImage image = compute_lobe(method, query);
+    LobeImage image = compute_lobe(method, query);
+    image.metadata["command_line"] = invocation();
     write_lobe_exr(image, settings.output, options);
     if (!settings.png.empty()) write_lobe_png(image, settings.png, options);
     if (!settings.json.empty()) write_lobe_json(image, settings.json, options);

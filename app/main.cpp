@@ -56,7 +56,15 @@ std::string unknown_command(const CLI::App& app, int argc, char** argv) {
 
 }  // namespace
 
+namespace glintscope::cli {
+std::string& invocation() {
+    static std::string line;
+    return line;
+}
+}  // namespace glintscope::cli
+
 int main(int argc, char** argv) {
+    for (int i = 0; i < argc; ++i) glintscope::cli::invocation() += (i ? " " : "") + std::string(i ? argv[i] : "glintscope");
     CLI::App app{"glintscope: heightfields, their reflection lobes and normal distributions.\n"
                  "Lengths are micrometres unless suffixed (0.5um, 500nm, 2mm); angles are degrees.",
                  "glintscope"};

@@ -65,7 +65,7 @@ void add_load_options(CLI::App& command, LoadOptions& options) {
 }
 
 Heightfield load_heightfield_argument(const std::string& argument, const LoadOptions& options) {
-    return load_heightfield_source({argument, options});
+    return load_heightfield_source({argument, options, ""});
 }
 
 }  // namespace glintscope::cli

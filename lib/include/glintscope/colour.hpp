@@ -55,6 +55,12 @@ void convert_from_xyz(std::vector<float>& pixels, const ColourSettings& settings
 // N×N×3 XYZ of a lobe, D65-adapted as described above; pixels outside the disk are 0.
 std::vector<float> lobe_to_xyz(const LobeImage& lobe, Illuminant illuminant);
 
+// The space's primaries and white as the EXR "chromaticities" attribute (red, green, blue, white
+// xy), for the spaces whose primaries are known (lin_rec709, lin_rec2020, ACEScg, CIE-XYZ-D65);
+// empty for others. Throws Error if the space is display-encoded (not scene-linear), which an
+// EXR must not hold.
+std::vector<float> scene_linear_chromaticities(const ColourSettings& settings, const std::string& space);
+
 // N×N×3 linear RGB in settings.output_space.
 std::vector<float> lobe_to_rgb(const LobeImage& lobe, const ColourSettings& settings);
 

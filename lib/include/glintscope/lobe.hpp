@@ -39,6 +39,7 @@ struct MaterialChoice {
 struct HeightfieldSource {
     std::string argument;
     LoadOptions load;
+    std::string content_md5;  // of the file's bytes, filled by make_query (empty for builtins)
 };
 
 struct LobeQuery {

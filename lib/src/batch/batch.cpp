@@ -124,7 +124,10 @@ void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchRe
 std::string panel_path(const Manifest& manifest, const ManifestPanel& panel) {
     const fs::path figure = figure_path(manifest);
     const fs::path folder = figure.parent_path() / (figure.stem().string() + ".panels");
-    return (folder / ("r" + std::to_string(panel.row + 1) + "-c" + std::to_string(panel.column + 1) + ".exr")).string();
+    // Appended piece by piece: GCC 12 misreports "r" + std::to_string(...) under -Wrestrict.
+    std::string name = "r";
+    name.append(std::to_string(panel.row + 1)).append("-c").append(std::to_string(panel.column + 1)).append(".exr");
+    return (folder / name).string();
 }
 
 BatchResult run_batch(const Manifest& manifest, const BatchOptions& options, const LobeOutputOptions& output,

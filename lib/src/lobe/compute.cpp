@@ -1,11 +1,13 @@
 // compute_lobe: the one owner of the generic work around a method (find, check, run, label).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "glintscope/error.hpp"
 #include "glintscope/query_keys.hpp"
 #include "glintscope/text_format.hpp"
 #include "glintscope/units.hpp"
+#include "glintscope/version.hpp"
 #include "method.hpp"
 
 namespace glintscope {
@@ -99,6 +101,7 @@ LobeImage compute_lobe(const std::string& method, const LobeQuery& query) {
     validate(query);
     check_quantity(entry.info, query.quantity);
     LobeImage image;
+    const auto start = std::chrono::steady_clock::now();
     try {
         check_option_keys(entry.info, query);
         image = entry.compute(query);
@@ -107,6 +110,9 @@ LobeImage compute_lobe(const std::string& method, const LobeQuery& query) {
     }
     image.quantity = query.quantity;
     label(image, entry.info, query);
+    image.metadata["version"] = version();
+    image.metadata["run.seconds"] = shortest_text(
+        std::round(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() * 1e3) / 1e3);
     return image;
 }
 

@@ -11,6 +11,7 @@
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
+#include "core/md5.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/generate.hpp"
 #include "glintscope/spectrum.hpp"
@@ -249,6 +250,12 @@ LobeQuery check_query_text(const QueryText& text) {
 LobeQuery make_query(const QueryText& text) {
     LobeQuery query = check_query_text(text);
     set_heightfield(query, load_heightfield_source(query.source));
+    if (!query.source.argument.starts_with("builtin:")) {
+        // The file's content hash, so that an output names exactly the data it came from.
+        std::ifstream stream(query.source.argument, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
+        query.source.content_md5 = md5_hex(bytes.data(), bytes.size());
+    }
     if (!find_value(text, "centre")) query.footprint.centre_um = query.field->centre_um();
     return query;
 }
@@ -280,6 +287,7 @@ Provenance describe_query(const LobeQuery& query) {
         text["heightfield.size"] = std::to_string(query.field->cols) + "x" + std::to_string(query.field->rows);
         text["heightfield.texel_um"] = shortest_text(query.field->texel_um);
     }
+    if (!query.source.content_md5.empty()) text["heightfield.md5"] = query.source.content_md5;
     for (const auto& [key, value] : query_text(query)) text["query." + key] = value;
     const Vec3 wi = query.omega_i;
     text["info.theta_i_deg"] = shortest_text(std::acos(std::fmin(1.0, wi.z)) * 180.0 / pi);
@@ -307,8 +315,11 @@ Provenance read_output_metadata(const std::string& path) {
         const nlohmann::json json = nlohmann::json::parse(stream, nullptr, false);
         if (json.is_discarded() || !json.is_object() || !json.contains("metadata") || !json["metadata"].is_object())
             throw Error("cannot read '" + path + "': not a glintscope JSON sidecar (no metadata object)");
-        for (const auto& [key, value] : json["metadata"].items())
+        for (const auto& [key, value] : json["metadata"].items()) {
             if (value.is_string()) metadata[key] = value.get<std::string>();
+            if (value.is_number()) metadata[key] = value.is_number_integer() ? std::to_string(value.get<long long>())
+                                                                             : shortest_text(value.get<double>());
+        }
         return metadata;
     }
     auto input = OIIO::ImageInput::open(path);

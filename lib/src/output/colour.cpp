@@ -242,6 +242,21 @@ std::vector<float> lobe_to_xyz(const LobeImage& lobe, Illuminant illuminant) {
     return xyz;
 }
 
+std::vector<float> scene_linear_chromaticities(const ColourSettings& settings, const std::string& space) {
+    const OCIO::ConstConfigRcPtr config = load_config(settings);
+    const std::string name = find_space(config, settings, space);
+    const OCIO::ConstColorSpaceRcPtr colour_space = config->getColorSpace(name.c_str());
+    const std::string encoding = colour_space->getEncoding() ? colour_space->getEncoding() : "";
+    if (!encoding.empty() && encoding != "scene-linear")
+        throw Error("colour space '" + name + "' is " + encoding + "-encoded; an EXR holds scene-linear values (e.g. lin_rec709)");
+    // ITU-R BT.709, BT.2020, ACES AP1 (S-2014-004), and XYZ itself; D65 or the ACES white.
+    if (name == "lin_rec709") return {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
+    if (name == "lin_rec2020") return {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, 0.3127f, 0.3290f};
+    if (name == "ACEScg") return {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
+    if (name == "CIE-XYZ-D65") return {1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.3127f, 0.3290f};
+    return {};
+}
+
 std::vector<float> lobe_to_rgb(const LobeImage& lobe, const ColourSettings& settings) {
     std::vector<float> pixels = lobe_to_xyz(lobe, settings.illuminant);
     convert_from_xyz(pixels, settings, settings.output_space);

@@ -39,6 +39,16 @@ std::vector<double> parse_list(const std::string& text, const std::string& path)
     }
 }
 
+// A metadata value as JSON: a number where the text is exactly a number's shortest form (so it
+// reads back as the same text), else a string.
+std::string json_value(const std::string& value) {
+    try {
+        if (shortest_text(parse_number(value)) == value) return value;
+    } catch (const Error&) {
+    }
+    return json_string(value);
+}
+
 void check_lobe(const LobeImage& lobe) {
     const std::size_t pixels = std::size_t(lobe.resolution) * lobe.resolution;
     if (lobe.resolution < 1 || lobe.wavelengths_um.empty() || lobe.values.size() != pixels * lobe.wavelengths_um.size())
@@ -213,6 +223,10 @@ void write_lobe_exr(const LobeImage& lobe, const std::string& path, const LobeOu
     spec.attribute("compression", "zip");
     add_attributes(spec, lobe.metadata);
     add_attributes(spec, facts);
+    if (is_spectral(lobe)) {
+        const std::vector<float> primaries = scene_linear_chromaticities(options.colour, options.colour.output_space);
+        if (!primaries.empty()) spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), primaries.data());
+    }
     if (options.spectral_channels && is_spectral(lobe)) {
         spec.attribute("spectralLayoutVersion", "1.0");
         spec.attribute("emissiveUnits", "W.m^-2.sr^-1");
@@ -284,7 +298,7 @@ void write_lobe_json(const LobeImage& lobe, const std::string& path, const LobeO
     bool first = true;
     for (const auto& [key, value] : lobe.metadata) {
         json += first ? "\n    " : ",\n    ";
-        json += json_string(key) + ": " + json_string(value);
+        json += json_string(key) + ": " + json_value(value);
         first = false;
     }
     json += first ? "}\n" : "\n  }\n";
