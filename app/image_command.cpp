@@ -1,6 +1,7 @@
 #include "image_command.hpp"
 
 #include "commands.hpp"
+#include "progress.hpp"
 #include "query_flags.hpp"
 
 #include <algorithm>
@@ -112,6 +113,27 @@ void print_summary(const LobeImage& image, const std::string& method, const Lobe
     }
 }
 
+bool has_key(const QueryText& text, const std::string& key) {
+    return std::any_of(text.begin(), text.end(), [&](const auto& entry) { return entry.first == key; });
+}
+
+// A wave lobe whose coherence blur is below a pixel would be point-sampled, with a wrong albedo
+// and peak: unless the user chose the supersampling, choose enough and say so.
+bool supersample_if_point_sampled(const QueryText& text, const std::string& method, LobeQuery& query) {
+    if (has_key(text, "supersample")) return false;
+    const int supersample = recommended_supersample(method, query);
+    if (supersample <= 1) return false;
+    query.supersample = supersample;
+    return true;
+}
+
+// --verbose: what the method and the picture chose on their own.
+void explain_choices(const LobeImage& image, const std::string& method, const DisplayExposure& exposure) {
+    for (const auto& [key, value] : image.metadata)
+        if (key.starts_with(method + ".")) std::fprintf(stderr, "glintscope: %s = %s\n", key.c_str(), value.c_str());
+    std::fprintf(stderr, "glintscope: exposure %.4g EV (%s)\n", exposure.ev, exposure.rule.c_str());
+}
+
 void run(const ImageCommandSettings& settings, const std::string& heightfield, std::string method,
          const std::string& default_method) {
     check_outputs(settings);
@@ -119,15 +141,26 @@ void run(const ImageCommandSettings& settings, const std::string& heightfield, s
     const QueryText text = query_text_of(settings, heightfield, method);
     if (method.empty()) method = default_method;
     lobe_method(method);  // an unknown method fails before the heightfield is loaded
-    const LobeQuery query = make_query(text);
+    LobeQuery query = make_query(text);
     validate(query);
+    const bool supersampled = supersample_if_point_sampled(text, method, query);
+    LobeImage image = compute_lobe(method, query);
+    // Said after the computation, so that bad input fails with its one line and nothing else.
+    if (supersampled)
+        std::fprintf(stderr,
+                     "glintscope: note: supersampled %dx%d, because the coherence blur lambda/(2 pi sigma_c) is below "
+                     "a pixel (--supersample 1 point-samples)\n",
+                     query.supersample, query.supersample);
     for (const std::string& warning : query_warnings(method, query))
         std::fprintf(stderr, "glintscope: warning: %s\n", warning.c_str());
-    LobeImage image = compute_lobe(method, query);
     image.metadata["command_line"] = invocation();
+    for (const std::string& warning : image_warnings(image))
+        std::fprintf(stderr, "glintscope: warning: %s\n", warning.c_str());
     write_lobe_exr(image, settings.output, options);
-    if (!settings.png.empty()) write_lobe_png(image, settings.png, options);
+    DisplayExposure exposure = display_exposure(image, options.colour);
+    if (!settings.png.empty()) exposure = write_lobe_png(image, settings.png, options);
     if (!settings.json.empty()) write_lobe_json(image, settings.json, options);
+    if (verbosity().verbose) explain_choices(image, method, exposure);
     print_summary(image, method, query);
 }
 

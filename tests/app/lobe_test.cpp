@@ -58,17 +58,23 @@ TEST(LobeCommand, FlatMirrorAlbedoIsOneByBothMethods) {
     }
 }
 
-TEST(LobeCommand, WarnsWhenTheCoherenceBlurIsSmallerThanAPixel) {
+// λ/(2πσ_c) = 0.5/(2π·10) ≈ 0.008 against a pixel of 2/64 ≈ 0.031: point-sampled, the flat
+// mirror's albedo would be far from 1. Unless told otherwise, the command supersamples (and says
+// so); told --supersample 1, it warns.
+TEST(LobeCommand, SupersamplesWhenTheCoherenceBlurIsSmallerThanAPixel) {
     TemporaryDirectory directory;
     const std::string field = write_flat_field(directory);
-    // λ/(2πσ_c) = 0.5/(2π·10) ≈ 0.008 against a pixel of 2/64 ≈ 0.031.
-    const auto coarse = run_cli({"lobe", field, "--method", "fft", "--res", "64", "-o", directory.file("a.exr")});
-    ASSERT_EQ(coarse.exit_code, 0) << coarse.output;
-    EXPECT_NE(coarse.output.find("warning: the coherence blur"), std::string::npos);
-    const auto resolved = run_cli({"lobe", field, "--method", "fft", "--res", "64", "--sigma-c", "1um", "-o",
-                                   directory.file("b.exr")});
+    const auto automatic = run_cli({"lobe", field, "--res", "64", "-o", directory.file("a.exr")});
+    ASSERT_EQ(automatic.exit_code, 0) << automatic.output;
+    EXPECT_NE(automatic.output.find("note: supersampled 6x6"), std::string::npos) << automatic.output;
+    EXPECT_NEAR(printed_albedo(automatic.output), 1.0, 0.01) << automatic.output;
+    const auto point = run_cli({"lobe", field, "--res", "64", "--supersample", "1", "-o", directory.file("b.exr")});
+    ASSERT_EQ(point.exit_code, 0) << point.output;
+    EXPECT_NE(point.output.find("warning: the coherence blur"), std::string::npos) << point.output;
+    const auto resolved = run_cli({"lobe", field, "--res", "64", "--sigma-c", "1um", "-o", directory.file("c.exr")});
     ASSERT_EQ(resolved.exit_code, 0) << resolved.output;
     EXPECT_EQ(resolved.output.find("warning"), std::string::npos);
+    EXPECT_EQ(resolved.output.find("note"), std::string::npos);
 }
 
 struct BadRequest {

@@ -66,9 +66,18 @@ void set_heightfield(LobeQuery& query, Heightfield field);
 // Error with a one-line message naming the bad parameter.
 void validate(const LobeQuery& query);
 
-// Physics warnings about a query for a method (e.g. a coherence blur below a pixel that
-// point-samples a wave lobe), one line each; empty when there is nothing to say.
+// Physics warnings about a query for a method, one line each; empty when there is nothing to
+// say: a coherence blur below a pixel that point-samples a wave lobe (its albedo and peak are
+// then off), incidence beyond the models' validity (shadowing is ignored).
 std::vector<std::string> query_warnings(const std::string& method, const LobeQuery& query);
+
+// The supersampling at which a wave lobe's coherence blur λ/(2πσ_c) spans at least 1.5
+// sub-pixels (at most 8): 1 when the blur already spans a pixel or the method is not wave optics.
+int recommended_supersample(const std::string& method, const LobeQuery& query);
+
+// Warnings about a computed image: a BRDF albedo above 1 beyond 2% (energy the model creates,
+// e.g. R-OHS's 1/cosθ_o near grazing), an NDF whose disk sum is off 1 by more than 2%.
+std::vector<std::string> image_warnings(const LobeImage& image);
 
 // ---- Methods ------------------------------------------------------------------------------
 

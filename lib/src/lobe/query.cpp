@@ -1,4 +1,5 @@
 // The lobe query: its heightfield, its validation and the physics warnings about it.
+#include <algorithm>
 #include <cmath>
 
 #include "glintscope/error.hpp"
@@ -42,17 +43,65 @@ void validate(const LobeQuery& query) {
         throw Error("supersampling must be between 1 and 16, got " + std::to_string(query.supersample));
 }
 
+namespace {
+
+// The coherence window blurs a wave lobe by about λ/(2πσ_c) in disk units (the shortest
+// wavelength's is the sharpest); a pixel is 2/N wide.
+double coherence_blur(const LobeQuery& query) {
+    const double lambda = *std::min_element(query.wavelengths_um.begin(), query.wavelengths_um.end());
+    return lambda / (2.0 * pi * query.footprint.sigma_um);
+}
+
+bool point_sampled(const std::string& method, const LobeQuery& query) {
+    return lobe_method(method).wave_optics && query.footprint.shape == FootprintShape::gaussian &&
+           coherence_blur(query) * query.supersample < 2.0 / query.resolution;
+}
+
+}  // namespace
+
 std::vector<std::string> query_warnings(const std::string& method, const LobeQuery& query) {
     std::vector<std::string> warnings;
-    // The coherence window blurs a wave lobe by about λ/(2πσ_c) in disk units; a pixel is 2/N
-    // wide. Below a pixel the lobe is point-sampled, and its albedo and peak are off.
-    if (lobe_method(method).wave_optics && query.supersample == 1 && query.footprint.shape == FootprintShape::gaussian) {
-        const double blur = query.wavelengths_um.front() / (2.0 * pi * query.footprint.sigma_um);
-        const double pixel = 2.0 / query.resolution;
-        if (blur < pixel)
-            warnings.push_back("the coherence blur lambda/(2 pi sigma_c) = " + shortest_text(blur) +
-                               " is smaller than a pixel (" + shortest_text(pixel) +
-                               "); the lobe is point-sampled (use --supersample or a larger --res)");
+    if (point_sampled(method, query)) {
+        const double pixel = 2.0 / (query.resolution * query.supersample);
+        warnings.push_back("the coherence blur lambda/(2 pi sigma_c) = " + shortest_text(std::round(coherence_blur(query) * 1e5) / 1e5) +
+                           " is smaller than a sub-pixel (" + shortest_text(std::round(pixel * 1e5) / 1e5) +
+                           "): the lobe is point-sampled and its albedo and peak are off (use --supersample " +
+                           std::to_string(recommended_supersample(method, query) * query.supersample) +
+                           " or a larger --res)");
+    }
+    // Kirchhoff-based models ignore shadowing and masking, which dominate near grazing.
+    if (lobe_method(method).wave_optics && query.omega_i.z < std::cos(80.0 * pi / 180.0))
+        warnings.push_back("incidence beyond 80 degrees: the diffraction models ignore shadowing and masking, "
+                           "which dominate there: the lobe is outside their validity");
+    return warnings;
+}
+
+int recommended_supersample(const std::string& method, const LobeQuery& query) {
+    if (!lobe_method(method).wave_optics || query.footprint.shape != FootprintShape::gaussian) return 1;
+    const double pixel = 2.0 / query.resolution;
+    return std::clamp(static_cast<int>(std::ceil(1.5 * pixel / coherence_blur(query))), 1, 8);
+}
+
+std::vector<std::string> image_warnings(const LobeImage& image) {
+    std::vector<std::string> warnings;
+    const double pixel_area = disk_pixel_area(image.resolution);
+    const std::size_t pixels = std::size_t(image.resolution) * image.resolution;
+    for (std::size_t layer = 0; layer < image.layers(); ++layer) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < pixels; ++i) sum += image.values[layer * pixels + i];
+        sum *= pixel_area;
+        const std::string at = "at " + shortest_text(image.wavelengths_um[layer]) + " um";
+        if (image.quantity == Quantity::brdf && sum > 1.02) {
+            warnings.push_back("albedo " + shortest_text(std::round(sum * 1e4) / 1e4) + " " + at +
+                               " exceeds 1 by more than 2%: the model creates energy here (e.g. R-OHS's 1/cos "
+                               "theta_o near grazing)");
+            break;
+        }
+        if (image.quantity == Quantity::ndf && std::fabs(sum - 1.0) > 0.02) {
+            warnings.push_back("the NDF integrates to " + shortest_text(std::round(sum * 1e4) / 1e4) +
+                               " on the disk, not 1 (mass beyond the disk or the footprint)");
+            break;
+        }
     }
     return warnings;
 }
