@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "glintscope/atomic_output.hpp"
 #include "glintscope/error.hpp"
+#include "glintscope/figure.hpp"
 #include "glintscope/query_keys.hpp"
 #include "glintscope/text_format.hpp"
 #include "glintscope/validate.hpp"
@@ -27,6 +28,7 @@ struct ValidateSettings {
     std::string reference_method = "fft";
     std::string report;
     std::string csv;
+    std::string images;
     double fail_above = -1.0;
 };
 
@@ -85,16 +87,42 @@ void print_table(const ValidationPlan& plan, const std::vector<ValidationRow>& r
     }
 }
 
+// test | reference | test − reference, the first two exposed alike, the difference on its own
+// symmetric scale (one wavelength; for a spectrum the difference is left out).
+void write_pair(const std::string& directory, std::size_t index, const ValidationPlan& plan, const ValidationRow& row,
+                const LobeImage& test, const LobeImage& reference) {
+    const LobeImage difference = difference_image(test, reference);
+    Figure figure;
+    char title[160];
+    std::snprintf(title, sizeof title, "%s against %s: centre %.1f,%.1f um, %s%s, relative L2 %.2f%%",
+                  plan.test_method.c_str(), plan.reference_method.c_str(), row.centre_um.x, row.centre_um.y,
+                  to_string(row.model).c_str(), row.kernels_per_texel ? (", K = " + std::to_string(row.kernels_per_texel)).c_str() : "",
+                  100.0 * row.comparison.relative_l2);
+    figure.title = title;
+    figure.column_labels = {plan.test_method, plan.reference_method};
+    figure.cells = {{&test, &reference}};
+    if (test.layers() == 1) {
+        figure.column_labels.push_back("difference");
+        figure.cells[0].push_back(&difference);
+    }
+    const LobeOutputOptions output;
+    write_figure(figure, directory + "/pair-" + std::to_string(index) + ".png", output);
+}
+
 void run(const ValidateSettings& settings) {
     if (!settings.report.empty()) check_output_path(settings.report, {"json"}, "--report");
     if (!settings.csv.empty()) check_output_path(settings.csv, {"csv"}, "--csv");
+    if (!settings.images.empty()) check_output_path(settings.images + "/pair-1.png", {"png"}, "--images");
     const ValidationPlan plan = plan_of(settings);
     std::vector<ValidationRow> rows;
+    std::size_t pairs = 0;
     {
         ProgressBar progress("validate");
-        rows = run_validation(plan, [&](std::size_t done, std::size_t total, const std::string& what) {
-            progress.update(done, total, what);
-        });
+        rows = run_validation(
+            plan, [&](std::size_t done, std::size_t total, const std::string& what) { progress.update(done, total, what); },
+            [&](const ValidationRow& row, const LobeImage& test, const LobeImage& reference) {
+                if (!settings.images.empty()) write_pair(settings.images, ++pairs, plan, row, test, reference);
+            });
     }
     print_table(plan, rows);
     if (!settings.report.empty()) write_text(settings.report, validation_json(plan, rows));
@@ -126,6 +154,8 @@ void add_validate_command(CLI::App& app) {
     command->add_option("--reference-method", settings->reference_method, "Reference method")->capture_default_str();
     command->add_option("--report", settings->report, "Full report as JSON");
     command->add_option("--csv", settings->csv, "The rows as CSV");
+    command->add_option("--images", settings->images,
+                        "Write DIR/pair-N.png per compared pair: test, reference and their signed difference");
     command->add_option("--fail-above", settings->fail_above,
                         "Exit non-zero when any relative L2 exceeds X (e.g. 0.06), after writing the report");
     command->callback([settings] { run(*settings); });

@@ -39,9 +39,16 @@ std::vector<Point2> footprint_centres(const Heightfield& field, const Footprint&
 // Progress: called after each computed lobe with (done, total, what was computed).
 using ProgressCallback = std::function<void(std::size_t done, std::size_t total, const std::string& what)>;
 
+// Called with each compared pair (for pictures); `row` is the pair's first row.
+using PairCallback = std::function<void(const ValidationRow& row, const LobeImage& test, const LobeImage& reference)>;
+
 // Every combination of centre × model × density, one row per wavelength. The reference lobe of a
 // (centre, model) is computed once and shared by the densities.
-std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress = {});
+std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress = {},
+                                          const PairCallback& pair = {});
+
+// test − reference, per pixel and layer (a signed image: figure.hpp draws it on a diverging scale).
+LobeImage difference_image(const LobeImage& test, const LobeImage& reference);
 
 // The rows as CSV (one header line, then one line per row) and as a JSON report (the plan's
 // base query keys, then the rows; numbers as JSON numbers).

@@ -139,6 +139,28 @@ double shown(double value, const DisplayExposure& exposure) {
     return std::clamp(1.0 + std::log10(value / exposure.white_level) / exposure.log_decades, 0.0, 1.0);
 }
 
+// A signed image (a difference of two lobes) is drawn on a diverging scale symmetric about 0.
+bool is_signed(const LobeImage& lobe) {
+    return !spectral(lobe) && std::any_of(lobe.values.begin(), lobe.values.end(), [](float v) { return v < 0.0f; });
+}
+
+DisplayExposure signed_exposure(const LobeImage& lobe) {
+    DisplayExposure exposure;
+    for (float v : lobe.values) exposure.white_level = std::max(exposure.white_level, double(std::fabs(v)));
+    if (!(exposure.white_level > 0.0)) exposure.white_level = 1.0;
+    exposure.ev = -std::log2(exposure.white_level);
+    exposure.rule = "symmetric: +-max |value| maps to the ends";
+    return exposure;
+}
+
+// Moreland's cool-warm diverging map (blue, grey, red in sRGB) at t in [−1, 1].
+Colour diverging(double t) {
+    constexpr Colour blue{0.230f, 0.299f, 0.754f}, middle{0.865f, 0.865f, 0.865f}, red{0.706f, 0.016f, 0.150f};
+    const float a = float(std::min(1.0, std::fabs(t)));
+    const Colour& end = t < 0.0 ? blue : red;
+    return {middle[0] + a * (end[0] - middle[0]), middle[1] + a * (end[1] - middle[1]), middle[2] + a * (end[2] - middle[2])};
+}
+
 // The N×N display colours of the disk (and the number of disk pixels above white).
 struct DiskColours {
     std::vector<Colour> pixels;
@@ -168,6 +190,10 @@ DiskColours disk_colours(const LobeImage& lobe, const LobeOutputOptions& options
                 continue;
             }
             const double value = lobe.at(0, row, col);
+            if (is_signed(lobe)) {
+                result.pixels[i] = diverging(value / exposure.white_level);
+                continue;
+            }
             const double t = shown(value, exposure);
             if (!exposure.log_scale && t > 1.0) ++result.clipped;
             if (options.colormap == "grey") {
@@ -213,10 +239,13 @@ void draw_disk(OIIO::ImageBuf& picture, int x0, int y0, int size, const LobeImag
 int draw_colour_bar(OIIO::ImageBuf& picture, int x0, int y0, int height, const LobeImage& lobe,
                     const LobeOutputOptions& options, const DisplayExposure& exposure) {
     const ColorMap map = options.colormap == "viridis" ? ColorMap::viridis : ColorMap::inferno;
+    const bool signed_values = is_signed(lobe);
     for (int y = 0; y < height; ++y) {
         const double t = 1.0 - (y + 0.5) / height;
         Colour c{float(t), float(t), float(t)};
-        if (options.colormap != "grey") {
+        if (signed_values) {
+            c = diverging(2.0 * t - 1.0);
+        } else if (options.colormap != "grey") {
             const SrgbColor m = map_color(map, t);
             c = {m.r, m.g, m.b};
         }
@@ -224,11 +253,13 @@ int draw_colour_bar(OIIO::ImageBuf& picture, int x0, int y0, int height, const L
     }
     OIIO::ImageBufAlgo::render_box(picture, x0 - 1, y0 - 1, x0 + kBarWidth, y0 + height, kBlack);
     const QuantityLabels& label = labels(lobe.quantity);
-    const double bottom = exposure.log_scale ? exposure.white_level * std::pow(10.0, -exposure.log_decades) : 0.0;
+    const double bottom = signed_values        ? -exposure.white_level
+                          : exposure.log_scale ? exposure.white_level * std::pow(10.0, -exposure.log_decades)
+                                               : 0.0;
     text(picture, x0 + kBarWidth + 4, y0 - 2, number(exposure.white_level));
     text(picture, x0 + kBarWidth + 4, y0 + height - kFont - 2, number(bottom));
-    const std::string unit = label.symbol + (label.units == "1" ? "" : " [" + label.units + "]") +
-                             (exposure.log_scale ? ", log" : "");
+    const std::string unit = (signed_values ? "difference " : "") + label.symbol +
+                             (label.units == "1" ? "" : " [" + label.units + "]") + (exposure.log_scale ? ", log" : "");
     text(picture, x0 + kBarWidth + 4, y0 + height / 2 - kFont / 2, unit);
     return kBarWidth + 8 + std::max({text_width(number(exposure.white_level)), text_width(number(bottom)), text_width(unit)});
 }
@@ -236,7 +267,7 @@ int draw_colour_bar(OIIO::ImageBuf& picture, int x0, int y0, int height, const L
 int bar_space(const LobeImage& lobe, const DisplayExposure& exposure) {
     if (spectral(lobe)) return 0;
     const QuantityLabels& label = labels(lobe.quantity);
-    const std::string unit = label.symbol + (label.units == "1" ? "" : " [" + label.units + "]") + ", log";
+    const std::string unit = "difference " + label.symbol + (label.units == "1" ? "" : " [" + label.units + "]");
     return kMargin + kBarWidth + 8 + std::max(text_width(number(exposure.white_level)), text_width(unit));
 }
 
@@ -279,7 +310,7 @@ void write_png(OIIO::ImageBuf& picture, const std::string& path, const Provenanc
 }
 
 DisplayExposure exposure_of(const LobeImage& lobe, const ColourSettings& settings) {
-    return display_exposure(lobe, settings);
+    return is_signed(lobe) ? signed_exposure(lobe) : display_exposure(lobe, settings);
 }
 
 void paste(OIIO::ImageBuf& canvas, const OIIO::ImageBuf& picture, int x, int y) {
@@ -336,12 +367,19 @@ void write_figure(const Figure& figure, const std::string& path, const LobeOutpu
     const auto share = [&](const std::vector<std::pair<std::size_t, std::size_t>>& members) {
         for (Quantity quantity : {Quantity::brdf, Quantity::ndf}) {
             std::vector<const LobeImage*> group;
+            // Signed panels (differences) keep their own symmetric scale.
+            const auto member = [&](std::size_t r, std::size_t c) {
+                const LobeImage* image = figure.cells[r][c];
+                return image && image->quantity == quantity && !is_signed(*image);
+            };
             for (const auto& [r, c] : members)
-                if (figure.cells[r][c] && figure.cells[r][c]->quantity == quantity) group.push_back(figure.cells[r][c]);
+                if (member(r, c)) group.push_back(figure.cells[r][c]);
+            for (const auto& [r, c] : members)
+                if (figure.cells[r][c] && is_signed(*figure.cells[r][c])) exposures[r][c] = signed_exposure(*figure.cells[r][c]);
             if (group.empty()) continue;
             const DisplayExposure exposure = shared_exposure(group, options.colour);
             for (const auto& [r, c] : members)
-                if (figure.cells[r][c] && figure.cells[r][c]->quantity == quantity) exposures[r][c] = exposure;
+                if (member(r, c)) exposures[r][c] = exposure;
         }
     };
     std::vector<std::pair<std::size_t, std::size_t>> all;

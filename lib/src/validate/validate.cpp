@@ -64,7 +64,19 @@ std::vector<Point2> footprint_centres(const Heightfield& field, const Footprint&
     return centres;
 }
 
-std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress) {
+LobeImage difference_image(const LobeImage& test, const LobeImage& reference) {
+    compare_lobes(test, reference);  // checks that they are comparable
+    LobeImage difference = make_lobe_image(test.resolution, test.wavelengths_um, test.quantity);
+    for (std::size_t i = 0; i < difference.values.size(); ++i) difference.values[i] = test.values[i] - reference.values[i];
+    difference.metadata = test.metadata;
+    difference.metadata["method"] = test.metadata.count("method") ? test.metadata.at("method") + " - " +
+                                                                        reference.metadata.at("method")
+                                                                  : "difference";
+    return difference;
+}
+
+std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress,
+                                          const PairCallback& pair) {
     const std::vector<DiffractionModel> models = plan.models.empty() ? std::vector{plan.base.model} : plan.models;
     const std::vector<int> densities = plan.kernels_per_texel.empty() ? std::vector{0} : plan.kernels_per_texel;
     const std::vector<Point2> centres = plan.centres.empty() ? std::vector{plan.base.footprint.centre_um} : plan.centres;
@@ -83,8 +95,10 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
                 if (kernels) test_query.method_options["kernels_per_texel"] = std::to_string(kernels);
                 const Timed test = timed_compute(plan.test_method, test_query);
                 if (progress) progress(++done, total, plan.test_method + ", " + describe_case(centre, model, kernels));
+                const std::size_t first = rows.size();
                 for (const LayerComparison& layer : compare_lobes(test.image, reference.image))
                     rows.push_back({centre, model, kernels, layer, test.seconds, reference.seconds});
+                if (pair) pair(rows[first], test.image, reference.image);
             }
         }
     return rows;
