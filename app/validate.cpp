@@ -29,6 +29,7 @@ struct ValidateSettings {
     std::string report;
     std::string csv;
     std::string images;
+    std::string convergence;
     double fail_above = -1.0;
 };
 
@@ -113,7 +114,22 @@ void run(const ValidateSettings& settings) {
     if (!settings.report.empty()) check_output_path(settings.report, {"json"}, "--report");
     if (!settings.csv.empty()) check_output_path(settings.csv, {"csv"}, "--csv");
     if (!settings.images.empty()) check_output_path(settings.images + "/pair-1.png", {"png"}, "--images");
+    if (!settings.convergence.empty()) check_output_path(settings.convergence, {"csv"}, "--convergence");
     const ValidationPlan plan = plan_of(settings);
+    if (!settings.convergence.empty()) {
+        std::vector<ConvergencePoint> points;
+        {
+            ProgressBar progress("convergence");
+            points = run_convergence(plan, [&](std::size_t done, std::size_t total, const std::string& what) {
+                progress.update(done, total, what);
+            });
+        }
+        for (const ConvergencePoint& point : points)
+            std::printf("%-24s %10.4g  relative L2 %8.4f%%\n", point.series.c_str(), point.parameter,
+                        100.0 * point.relative_l2);
+        write_text(settings.convergence, convergence_csv(points));
+        return;
+    }
     std::vector<ValidationRow> rows;
     std::size_t pairs = 0;
     {
@@ -156,6 +172,9 @@ void add_validate_command(CLI::App& app) {
     command->add_option("--csv", settings->csv, "The rows as CSV");
     command->add_option("--images", settings->images,
                         "Write DIR/pair-N.png per compared pair: test, reference and their signed difference");
+    command->add_option("--convergence", settings->convergence,
+                        "Instead: error against K = 1-4 (gabor vs fft) and against the FFT step, as CSV "
+                        "(plot with scripts/plot-convergence.py)");
     command->add_option("--fail-above", settings->fail_above,
                         "Exit non-zero when any relative L2 exceeds X (e.g. 0.06), after writing the report");
     command->callback([settings] { run(*settings); });

@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 packages=(
   g++ make cmake pkg-config
   libopenimageio-dev libopenexr-dev libfftw3-dev libcli11-dev libopencolorio-dev
-  libzip-dev libpugixml-dev nlohmann-json3-dev libtomlplusplus-dev parallel libgtest-dev libgmock-dev libbenchmark-dev
+  libzip-dev libpugixml-dev nlohmann-json3-dev libtomlplusplus-dev parallel python3-matplotlib libgtest-dev libgmock-dev libbenchmark-dev
   fonts-dejavu-core
 )
 

@@ -50,6 +50,18 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
 // test − reference, per pixel and layer (a signed image: figure.hpp draws it on a diverging scale).
 LobeImage difference_image(const LobeImage& test, const LobeImage& reference);
 
+// Convergence of the two methods at the plan's first centre, model and wavelength:
+// - Gabor against the FFT ground truth as the kernels per texel K go 1, 2, 3, 4;
+// - the FFT against itself at a quarter of its automatic step, as the step goes from twice the
+//   automatic one down to half of it (what the automatic choice leaves on the table).
+struct ConvergencePoint {
+    std::string series;    // "gabor_kernels_per_texel" or "fft_step_um"
+    double parameter = 0.0;
+    double relative_l2 = 0.0;
+};
+std::vector<ConvergencePoint> run_convergence(const ValidationPlan& plan, const ProgressCallback& progress = {});
+std::string convergence_csv(const std::vector<ConvergencePoint>& points);
+
 // The rows as CSV (one header line, then one line per row) and as a JSON report (the plan's
 // base query keys, then the rows; numbers as JSON numbers).
 std::string validation_csv(const std::vector<ValidationRow>& rows);

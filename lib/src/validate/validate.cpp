@@ -104,6 +104,50 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
     return rows;
 }
 
+std::vector<ConvergencePoint> run_convergence(const ValidationPlan& plan, const ProgressCallback& progress) {
+    LobeQuery query = plan.base;
+    if (!plan.centres.empty()) query.footprint.centre_um = plan.centres.front();
+    if (!plan.models.empty()) query.model = plan.models.front();
+    query.wavelengths_um = {query.wavelengths_um.front()};
+    query.method_options.clear();
+    const std::size_t total = 1 + 4 + 1 + 4;
+    std::size_t done = 0;
+    const auto step = [&](const std::string& what) {
+        if (progress) progress(++done, total, what);
+    };
+    std::vector<ConvergencePoint> points;
+    const LobeImage reference = compute_lobe("fft", query);
+    step("fft");
+    for (int kernels = 1; kernels <= 4; ++kernels) {
+        LobeQuery test = query;
+        test.method_options["kernels_per_texel"] = std::to_string(kernels);
+        points.push_back({"gabor_kernels_per_texel", double(kernels),
+                          compare_lobes(compute_lobe("gabor", test), reference).at(0).relative_l2});
+        step("gabor, K = " + std::to_string(kernels));
+    }
+    // The automatic step (the finer of the two axes'), then the FFT at fractions of it.
+    const std::vector<std::string> steps = split(reference.metadata.at("fft.step_um"), ',');
+    const double automatic = std::min(parse_number(steps.at(0)), parse_number(steps.at(1)));
+    LobeQuery finest = query;
+    finest.method_options["step"] = shortest_text(automatic / 4.0);
+    const LobeImage truth = compute_lobe("fft", finest);
+    step("fft at a quarter step");
+    for (double factor : {2.0, 1.5, 1.0, 0.5}) {
+        LobeQuery test = query;
+        test.method_options["step"] = shortest_text(automatic * factor);
+        points.push_back({"fft_step_um", automatic * factor, compare_lobes(compute_lobe("fft", test), truth).at(0).relative_l2});
+        step("fft, step x" + shortest_text(factor));
+    }
+    return points;
+}
+
+std::string convergence_csv(const std::vector<ConvergencePoint>& points) {
+    std::string csv = "series,parameter,relative_l2\n";
+    for (const ConvergencePoint& point : points)
+        csv += point.series + "," + shortest_text(point.parameter) + "," + shortest_text(point.relative_l2) + "\n";
+    return csv;
+}
+
 std::string validation_csv(const std::vector<ValidationRow>& rows) {
     std::string csv =
         "centre_x_um,centre_y_um,model,kernels_per_texel,wavelength_um,relative_l2,peak_relative_error,"
