@@ -3,10 +3,14 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "commands.hpp"
+#include "glintscope/atomic_output.hpp"
 #include "glintscope/colormap.hpp"
+#include "glintscope/figure.hpp"
+#include "glintscope/units.hpp"
 #include "glintscope/heightfield_io.hpp"
 #include "options.hpp"
 
@@ -18,11 +22,35 @@ struct PreviewSettings {
     std::string output;
     std::string colormap = "viridis";
     LoadOptions load;
+    bool bare = false;
+    std::vector<std::string> centre;
+    double sigma_c_um = 0.0;
+    double box_um = 0.0;
 };
 
+// The footprint to draw, when --centre was given (a Gaussian of --sigma-c, default 10 µm, or
+// a --box).
+std::optional<Footprint> footprint_of(const PreviewSettings& settings) {
+    if (settings.centre.empty()) return std::nullopt;
+    Footprint footprint;
+    footprint.centre_um = {parse_length_um(settings.centre[0]), parse_length_um(settings.centre[1])};
+    if (settings.sigma_c_um > 0.0) footprint.sigma_um = settings.sigma_c_um;
+    if (settings.box_um > 0.0) {
+        footprint.shape = FootprintShape::box;
+        footprint.size_um = settings.box_um;
+    }
+    return footprint;
+}
+
 void run_preview(const PreviewSettings& settings) {
+    check_output_path(settings.output, {"png"}, "-o");
     const ColorMap map = parse_colormap(settings.colormap);
+    const std::optional<Footprint> footprint = footprint_of(settings);
     const Heightfield field = load_heightfield_argument(settings.input, settings.load);
+    if (!settings.bare) {
+        write_height_picture(field, settings.output, map, footprint ? &*footprint : nullptr);
+        return;
+    }
     ColorLegend legend{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(), "height [um]",
                        map};
     for (float height : field.heights_um) {
@@ -51,6 +79,12 @@ void add_preview_command(CLI::App& app) {
         ->check(CLI::IsMember({"viridis", "inferno"}))
         ->capture_default_str();
     add_load_options(*command, settings->load);
+    command->add_flag("--bare", settings->bare, "The heights and their legend only (no axes, scale bar or footprint)");
+    command->add_option("--centre", settings->centre, "Draw a footprint centred at X,Y (lengths)")
+        ->delimiter(',')
+        ->expected(2);
+    add_length_option(*command, "--sigma-c", settings->sigma_c_um, "Coherence sigma of the drawn footprint (default 10um)");
+    add_length_option(*command, "--box", settings->box_um, "Draw a box footprint of this side instead");
     command->callback([settings] { run_preview(*settings); });
 }
 

@@ -96,7 +96,7 @@ TEST(PreviewCommand, FailuresLeaveNoFile) {
     const std::pair<std::vector<std::string>, std::string> cases[] = {
         {{"preview", directory.file("absent.exr"), "-o", directory.file("out.png")}, "no such file"},
         {{"preview", nan_input, "-o", directory.file("out.png")}, "every height is missing (NaN)"},
-        {{"preview", input, "-o", directory.file("out.jpg")}, "colour-mapped pictures are PNG files"},
+        {{"preview", input, "-o", directory.file("out.jpg")}, "the file name must end in .png"},
         {{"preview", input, "-o", directory.file("no/such/dir/out.png")}, "does not exist"},
         {{"preview", input, "-o", directory.file("out.png"), "--channel", "Q"}, "no channel 'Q'"},
     };

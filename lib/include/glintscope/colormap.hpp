@@ -43,6 +43,11 @@ struct ColorLegend {
 // The grey of missing values (sRGB), distinct from every viridis and inferno colour.
 inline constexpr float kMissingGrey = 0.5f;
 
+// An image rescaled by an integer factor so that its long side is at least `min_side` (enlarged
+// by nearest neighbour, each sample a sharp square) and at most `max_side` (reduced, each pixel
+// the mean of the valid values of its block). NaN stays NaN where a block has no valid value.
+ScalarImage resize_for_display(const ScalarImage& image, int min_side, int max_side);
+
 // Writes an 8-bit sRGB PNG, atomically: the image colour-mapped, a colour bar beside it with
 // the min and max values written at its ends, and the label above. Images smaller than 256
 // pixels on their long side are enlarged by an integer factor (nearest neighbour, so each

@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "glintscope/colormap.hpp"
 #include "glintscope/image.hpp"
+#include "glintscope/lobe.hpp"
 #include "glintscope/lobe_output.hpp"
 
 namespace glintscope {
@@ -28,6 +30,12 @@ struct Figure {
     std::vector<std::vector<const LobeImage*>> cells;  // [row][column]; nullptr leaves a cell empty
     SharedExposure exposure = SharedExposure::per_row;
 };
+
+// A heightfield in map view (+x right, +y up), colour-mapped, with a colour bar of heights in µm,
+// axes in µm, a scale bar, and, when given, a footprint drawn on it: a Gaussian as circles at σ_c
+// and at its truncation 3.25σ_c (dashed), a box as its square; wrapped across the periodic edges.
+void write_height_picture(const Heightfield& field, const std::string& path, ColorMap map,
+                          const Footprint* footprint = nullptr);
 
 // The pixel size of a panel for an image of `resolution` (the same for every panel of a figure).
 int panel_size(int resolution);

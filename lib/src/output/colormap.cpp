@@ -57,11 +57,14 @@ constexpr int kMargin = 10;
 constexpr int kBarWidth = 20;
 constexpr int kMinBarHeight = 128;
 
-// Integer rescaling so that small images are legible and huge ones stay a reasonable file.
-ScalarImage display_image(const ScalarImage& image) {
+ScalarImage display_image(const ScalarImage& image) { return resize_for_display(image, kMinDisplaySide, kMaxDisplaySide); }
+
+}  // namespace
+
+ScalarImage resize_for_display(const ScalarImage& image, int min_side, int max_side) {
     const int side = std::max(image.rows, image.cols);
-    if (side < kMinDisplaySide) {
-        const int factor = kMinDisplaySide / side;
+    if (side < min_side) {
+        const int factor = min_side / side;
         ScalarImage large{image.rows * factor, image.cols * factor, {}};
         large.values.resize(static_cast<std::size_t>(large.rows) * large.cols);
         for (int r = 0; r < large.rows; ++r)
@@ -70,8 +73,8 @@ ScalarImage display_image(const ScalarImage& image) {
                     image.values[static_cast<std::size_t>(r / factor) * image.cols + c / factor];
         return large;
     }
-    if (side <= kMaxDisplaySide) return image;
-    const int factor = (side + kMaxDisplaySide - 1) / kMaxDisplaySide;
+    if (side <= max_side) return image;
+    const int factor = (side + max_side - 1) / max_side;
     ScalarImage small{(image.rows + factor - 1) / factor, (image.cols + factor - 1) / factor, {}};
     small.values.resize(static_cast<std::size_t>(small.rows) * small.cols);
     parallel_for(static_cast<std::size_t>(small.rows), 16, [&](std::size_t begin, std::size_t end) {
@@ -95,6 +98,8 @@ ScalarImage display_image(const ScalarImage& image) {
     });
     return small;
 }
+
+namespace {
 
 // The first font OpenImageIO can load; fonts-dejavu-core provides DejaVuSans.
 const std::string& legend_font() {

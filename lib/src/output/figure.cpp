@@ -22,6 +22,7 @@ constexpr Colour kWhite{1.0f, 1.0f, 1.0f};
 constexpr Colour kBlack{0.0f, 0.0f, 0.0f};
 constexpr Colour kGuide{0.62f, 0.62f, 0.62f};    // disk outline and θ rings
 constexpr Colour kMarker{0.1f, 0.85f, 1.0f};     // mirror direction
+constexpr Colour kFootprint{1.0f, 0.1f, 0.55f};  // footprints on height maps (off the viridis/inferno hues)
 constexpr int kFont = 14;
 constexpr int kMargin = 8;
 constexpr int kBarWidth = 14;
@@ -317,7 +318,121 @@ void paste(OIIO::ImageBuf& canvas, const OIIO::ImageBuf& picture, int x, int y) 
     if (!OIIO::ImageBufAlgo::paste(canvas, x, y, 0, 0, picture)) throw Error("composing the figure failed: " + canvas.geterror());
 }
 
+// A round step for axis ticks and scale bars: 1, 2 or 5 × 10^k, about span/count.
+double nice_step(double span, int count) {
+    const double raw = span / count;
+    const double power = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double m : {1.0, 2.0, 5.0, 10.0})
+        if (m * power >= raw) return m * power;
+    return 10.0 * power;
+}
+
+// Axes of a map-view picture of width_um × height_um drawn at (x0, y0) with size (w, h) pixels.
+void draw_axes(OIIO::ImageBuf& picture, int x0, int y0, int w, int h, double width_um, double height_um) {
+    OIIO::ImageBufAlgo::render_box(picture, x0 - 1, y0 - 1, x0 + w, y0 + h, kBlack);
+    const double step = nice_step(std::max(width_um, height_um), 8);
+    for (double x = 0.0; x <= width_um + 1e-9; x += step) {
+        const int px = x0 + int(std::lround(x / width_um * w));
+        OIIO::ImageBufAlgo::render_line(picture, px, y0 + h, px, y0 + h + 5, kBlack);
+        text(picture, px, y0 + h + 7, number(x, 4), kBlack, OIIO::ImageBufAlgo::TextAlignX::Center, 12);
+    }
+    for (double y = 0.0; y <= height_um + 1e-9; y += step) {
+        const int py = y0 + h - int(std::lround(y / height_um * h));
+        OIIO::ImageBufAlgo::render_line(picture, x0 - 6, py, x0 - 1, py, kBlack);
+        text(picture, x0 - 8, py - 7, number(y, 4), kBlack, OIIO::ImageBufAlgo::TextAlignX::Right, 12);
+    }
+    text(picture, x0 + w / 2, y0 + h + 24, "x [um]", kBlack, OIIO::ImageBufAlgo::TextAlignX::Center, 12);
+    text(picture, x0 - 8, y0 - 22, "y [um]", kBlack, OIIO::ImageBufAlgo::TextAlignX::Right, 12);
+}
+
+// A scale bar of a round length in the lower right corner, white on a dark outline.
+void draw_scale_bar(OIIO::ImageBuf& picture, int x0, int y0, int w, int h, double width_um) {
+    const double length = nice_step(width_um, 4);
+    const int pixels = int(std::lround(length / width_um * w));
+    const int right = x0 + w - 12, bottom = y0 + h - 12;
+    OIIO::ImageBufAlgo::render_box(picture, right - pixels - 1, bottom - 5, right + 1, bottom + 1, kBlack, true);
+    OIIO::ImageBufAlgo::render_box(picture, right - pixels, bottom - 4, right, bottom, kWhite, true);
+    const std::string label = number(length, 4) + " um";
+    text(picture, right - pixels / 2 + 1, bottom - 23, label, kBlack, OIIO::ImageBufAlgo::TextAlignX::Center, 13);
+    text(picture, right - pixels / 2, bottom - 24, label, kWhite, OIIO::ImageBufAlgo::TextAlignX::Center, 13);
+}
+
+// The footprint in map view, and its copies across the periodic edges.
+void draw_footprint(OIIO::ImageBuf& picture, int x0, int y0, int w, int h, const Heightfield& field,
+                    const Footprint& footprint) {
+    const double sx = w / field.width_um(), sy = h / field.height_um();
+    for (int ty = -1; ty <= 1; ++ty)
+        for (int tx = -1; tx <= 1; ++tx) {
+            const double cx = footprint.centre_um.x + tx * field.width_um();
+            const double cy = footprint.centre_um.y + ty * field.height_um();
+            const int px = x0 + int(std::lround(cx * sx)), py = y0 + h - int(std::lround(cy * sy));
+            if (footprint.shape == FootprintShape::box) {
+                const int hx = int(std::lround(0.5 * footprint.size_um * sx)), hy = int(std::lround(0.5 * footprint.size_um * sy));
+                OIIO::ImageBufAlgo::render_box(picture, px - hx, py - hy, px + hx, py + hy, kFootprint,
+                                               false, OIIO::ROI(x0, x0 + w, y0, y0 + h));
+                continue;
+            }
+            for (const auto& [radius, dashed] : {std::pair{1.0, false}, std::pair{3.25, true}}) {
+                const int segments = 120;
+                for (int k = 0; k < segments; ++k) {
+                    if (dashed && k % 2) continue;
+                    const double a0 = 2.0 * pi * k / segments, a1 = 2.0 * pi * (k + 1) / segments;
+                    const double r = radius * footprint.sigma_um;
+                    for (int d = 0; d < 2; ++d)  // two pixels wide
+                        OIIO::ImageBufAlgo::render_line(picture, px + d + int(r * sx * std::cos(a0)),
+                                                        py - int(r * sy * std::sin(a0)), px + d + int(r * sx * std::cos(a1)),
+                                                        py - int(r * sy * std::sin(a1)), kFootprint, false,
+                                                        OIIO::ROI(x0, x0 + w, y0, y0 + h));
+                }
+            }
+        }
+}
+
 }  // namespace
+
+void write_height_picture(const Heightfield& field, const std::string& path, ColorMap map, const Footprint* footprint) {
+    if (file_extension(path) != "png") throw Error("cannot write '" + path + "': a PNG file name must end in .png");
+    const ScalarImage shown = resize_for_display({field.rows, field.cols, field.heights_um}, 384, 768);
+    double low = INFINITY, high = -INFINITY;
+    for (float h : field.heights_um)
+        if (!std::isnan(h)) low = std::min(low, double(h)), high = std::max(high, double(h));
+    if (!(low <= high)) throw Error("cannot write '" + path + "': the heightfield has no valid height");
+    const int w = shown.cols, h = shown.rows;
+    const int left = 70, top = 40;
+    OIIO::ImageBuf picture = blank(left + w + 2 * kMargin + kBarWidth + 80, top + h + 70);
+    const Colour grey{kMissingGrey, kMissingGrey, kMissingGrey};
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+            const float v = shown.values[std::size_t(r) * w + c];
+            Colour colour = grey;
+            if (!std::isnan(v)) {
+                const SrgbColor m = map_color(map, high > low ? (v - low) / (high - low) : 0.5);
+                colour = {m.r, m.g, m.b};
+            }
+            picture.setpixel(left + c, top + r, colour.data(), 3);
+        }
+    draw_axes(picture, left, top, w, h, field.width_um(), field.height_um());
+    draw_scale_bar(picture, left, top, w, h, field.width_um());
+    if (footprint) draw_footprint(picture, left, top, w, h, field, *footprint);
+    const int bar_x = left + w + 2 * kMargin;
+    for (int y = 0; y < h; ++y) {
+        const SrgbColor m = map_color(map, 1.0 - (y + 0.5) / h);
+        const Colour c{m.r, m.g, m.b};
+        for (int x = 0; x < kBarWidth; ++x) picture.setpixel(bar_x + x, top + y, c.data(), 3);
+    }
+    OIIO::ImageBufAlgo::render_box(picture, bar_x - 1, top - 1, bar_x + kBarWidth, top + h, kBlack);
+    text(picture, bar_x + kBarWidth + 4, top - 2, number(high, 4));
+    text(picture, bar_x + kBarWidth + 4, top + h - kFont - 2, number(low, 4));
+    text(picture, bar_x - 4, top - 24, "height [um]");
+    std::string caption = std::to_string(field.cols) + " x " + std::to_string(field.rows) + " samples, texel " +
+                          number(field.texel_um, 4) + " um";
+    if (footprint)
+        caption += footprint->shape == FootprintShape::box
+                       ? ", box footprint " + number(footprint->size_um, 4) + " um"
+                       : ", footprint sigma_c " + number(footprint->sigma_um, 4) + " um (dashed: 3.25 sigma_c)";
+    text(picture, left, top + h + 44, caption);
+    write_png(picture, path, field.provenance);
+}
 
 int panel_size(int resolution) {
     const int zoom = std::max(1, (kMinPanel + resolution - 1) / resolution);
