@@ -1,0 +1,470 @@
+// Stam 1999 "Diffraction Shaders" as a lobe method.
+//
+// The FFT lobe of one footprint is f_r = ξ1/A_c |R̃(v)|², R̃(v) = ∫ w(s) ξ2 p(s) e^{−i2π v·s} ds,
+// p = e^{−i2π ξ3 H/λ}, v = ψ̄/λ (Yan 2018 eq. 3, 6). Stam replaces the one surface by its
+// statistics: ⟨|R̃|²⟩ = |⟨p⟩|²|w̃(v)|² + ∫ (w⋆w)(τ) C_p(τ) e^{−i2π v·τ} dτ (Stam 1999 eq. 11), and
+// when the footprint is much wider than the correlation length T (σ_c ≫ T), w⋆w ≈ A_c over the
+// support of C_p, so f_r = ξ1 (e^{−g} |w̃(v)|²/A_c + S_p(v)) with ⟨p⟩ = e^{−g/2} (Stam eq. 12).
+// Stam's infinite patch has δ(u, v) in place of |w̃|²/A_c; here the coherent part is drawn as the
+// footprint's own window transform, exactly as the FFT lobe draws a flat mirror, times e^{−g}.
+//
+// Diffraction model (docs/stam.md): Stam's field (eq. 2, 6–8) is the Kirchhoff integral with the
+// slope term integrated by parts, ∫ (ψ·m) e^{…} ds = (|ψ|²/ψ·n) ∫ e^{…} ds over the whole plane,
+// and his factor F² G/w² (eq. 9–10) with G = (1 − k̂1·k̂2)²/(cos θ1 cos θ2), k̂1 = −ω_i, k̂2 = ω_o,
+// w = −ψ·n, equals |ψ|⁴/(4 cos θ_i cos θ_o (ψ·n)²): that is Yan 2018 Fig. 6's Kirchhoff model,
+// ξ1 = F (ψ·n)²/(4λ² cos θ_i cos θ_o), ξ3 = ψ·n, with ξ2 replaced by its integrated-by-parts
+// value |ψ|²/(ψ·n)². The statistics (eq. 11–16) only need ξ2 independent of H, so every model of
+// Fig. 6 is honoured: OHS, GHS, R-OHS, R-GHS with their own ξ1, ξ3 and ξ2 = 1, Kirchhoff as Stam.
+// F is applied once (the reflectance), where Stam's F² squares his amplitude-like F.
+#include "methods/stam/stam_lobe.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include "glintscope/error.hpp"
+#include "glintscope/material.hpp"
+#include "glintscope/parallel.hpp"
+#include "glintscope/statistics.hpp"
+
+namespace glintscope {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Stam's formula wants the footprint much wider than the surface's correlation scale; below this
+// ratio the image metadata carries a warning.
+constexpr double kWideFootprintRatio = 3.0;
+
+std::string format_number(double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.6g", value);
+    return buffer;
+}
+
+// sin(t)/t.
+double sinc(double t) { return std::fabs(t) < 1e-8 ? 1.0 - t * t / 6.0 : std::sin(t) / t; }
+
+const char* correlation_name(CorrelationFunction correlation) {
+    switch (correlation) {
+        case CorrelationFunction::c1: return "c1";
+        case CorrelationFunction::c2: return "c2";
+        case CorrelationFunction::c3: return "c3";
+    }
+    return "c1";
+}
+
+const char* kind_name(StamSurfaceKind kind) {
+    switch (kind) {
+        case StamSurfaceKind::gaussian: return "gaussian";
+        case StamSurfaceKind::grating: return "grating";
+        case StamSurfaceKind::cd: return "cd";
+    }
+    return "gaussian";
+}
+
+// The generator recipe recorded in a heightfield's provenance (generate.hpp: "generator",
+// "generator.preset", "generator.KEY_UNIT"), or an empty kind when there is none.
+Recipe recorded_recipe(const Provenance& provenance) {
+    Recipe recipe;
+    recipe.kind.clear();
+    const auto generator = provenance.find("generator");
+    if (generator == provenance.end()) return recipe;
+    const auto preset = provenance.find("generator.preset");
+    const std::string kind = preset != provenance.end() ? preset->second : generator->second;
+    const std::vector<std::string> kinds = generator_kinds();
+    if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) return recipe;
+    recipe = default_recipe(kind);
+    for (const RecipeKey& key : recipe_keys()) {
+        if (std::find(key.kinds.begin(), key.kinds.end(), kind) == key.kinds.end()) continue;
+        const auto value = provenance.find("generator." + key.name + (key.unit.empty() ? "" : "_" + key.unit));
+        if (value != provenance.end()) set_recipe_value(recipe, key.name, value->second);
+    }
+    return recipe;
+}
+
+StamSurfaceKind surface_kind(const LobeQuery& query, const Recipe& recipe) {
+    const auto option = query.method_options.find("surface");
+    if (option == query.method_options.end()) {
+        if (recipe.kind == "grating") return StamSurfaceKind::grating;
+        if (recipe.kind == "cd") return StamSurfaceKind::cd;
+        return StamSurfaceKind::gaussian;
+    }
+    for (StamSurfaceKind kind : {StamSurfaceKind::gaussian, StamSurfaceKind::grating, StamSurfaceKind::cd})
+        if (option->second == kind_name(kind)) return kind;
+    throw Error("option surface must be gaussian, grating or cd, got '" + option->second + "'");
+}
+
+bool is_gaussian_recipe(const Recipe& recipe) { return recipe.kind == "gaussian" || recipe.kind == "isotropic" || recipe.kind == "brushed"; }
+
+// A positive length option overriding `value`, with its source recorded.
+void override_length(const LobeQuery& query, const std::string& key, double& value, std::string& source) {
+    if (!query.method_options.count(key)) return;
+    value = method_option_length_um(query, key, 0.0);
+    if (!(value > 0.0) || !std::isfinite(value))
+        throw Error("option " + key + " must be a positive length, got '" + query.method_options.at(key) + "'");
+    source = "options";
+}
+
+GaussianFieldParameters gaussian_parameters(const LobeQuery& query, const Recipe& recipe, Provenance& sources) {
+    GaussianFieldParameters surface;
+    std::string height_source, length_source, correlation_source = "default";
+    if (is_gaussian_recipe(recipe)) {
+        surface = recipe.gaussian;
+        height_source = length_source = correlation_source = "generator";
+    }
+    const bool need_statistics = height_source.empty() && (!query.method_options.count("sigma_h") ||
+                                                           !query.method_options.count("correlation_length"));
+    if (need_statistics) {
+        // Measured Sq and the 1/e autocorrelation lengths (statistics.hpp: T of C1, C2, C3).
+        const SurfaceStatistics statistics = compute_statistics(*query.field);
+        surface.sigma_h_um = statistics.sq_um;
+        surface.correlation_length_x_um = statistics.correlation_length_x_um;
+        surface.correlation_length_y_um = statistics.correlation_length_y_um;
+        surface.orientation_rad = 0.0;
+        height_source = length_source = "statistics";
+    }
+    override_length(query, "sigma_h", surface.sigma_h_um, height_source);
+    std::string unused = length_source;
+    override_length(query, "correlation_length", surface.correlation_length_x_um, length_source);
+    override_length(query, "correlation_length", surface.correlation_length_y_um, unused);
+    if (const auto option = query.method_options.find("correlation"); option != query.method_options.end()) {
+        const std::string& name = option->second;
+        if (name == "c1") surface.correlation = CorrelationFunction::c1;
+        else if (name == "c2") surface.correlation = CorrelationFunction::c2;
+        else if (name == "c3") surface.correlation = CorrelationFunction::c3;
+        else throw Error("option correlation must be c1, c2 or c3, got '" + name + "'");
+        correlation_source = "options";
+    }
+    if (!(surface.correlation_length_x_um > 0.0) || !(surface.correlation_length_y_um > 0.0))
+        throw Error("stam: the heightfield's correlation length could not be measured; give option correlation_length");
+    if (!(surface.sigma_h_um >= 0.0)) throw Error("stam: the heightfield's rms height is undefined; give option sigma_h");
+    sources["stam.source.sigma_h"] = height_source;
+    sources["stam.source.correlation_length"] = length_source;
+    sources["stam.source.correlation"] = correlation_source;
+    return surface;
+}
+
+GratingParameters grating_parameters(const LobeQuery& query, const Recipe& recipe, Provenance& sources) {
+    GratingParameters grating;
+    std::string source;
+    if (recipe.kind == "grating") {
+        grating = recipe.grating;
+        source = "generator";
+    } else if (!query.method_options.count("period") || !query.method_options.count("amplitude")) {
+        throw Error("stam: surface=grating on a heightfield not made by the grating generator needs options period and amplitude");
+    }
+    std::string period_source = source, amplitude_source = source;
+    override_length(query, "period", grating.period_um, period_source);
+    override_length(query, "amplitude", grating.amplitude_um, amplitude_source);
+    sources["stam.source.period"] = period_source;
+    sources["stam.source.amplitude"] = amplitude_source;
+    return grating;
+}
+
+// ---- Gaussian random fields (Stam 1999 §4) -------------------------------------------------
+
+// ln m!, tabulated for the terms of the series.
+double log_factorial(int m) {
+    static const std::vector<double> table = [] {
+        std::vector<double> values(4096);
+        for (std::size_t i = 1; i < values.size(); ++i) values[i] = values[i - 1] + std::log(double(i));
+        return values;
+    }();
+    return m < static_cast<int>(table.size()) ? table[m] : std::lgamma(m + 1.0);
+}
+
+// ln D_m, the transform of C^m (Stam 1999 eq. 15), with U = 2π T_x v_u, V = 2π T_y v_v in the
+// field's own axes (T_x along `orientation`).
+double log_correlation_power_transform(CorrelationFunction correlation, double tx, double ty, int m, double u2,
+                                       double v2) {
+    const double mm = m;
+    switch (correlation) {
+        case CorrelationFunction::c1: return std::log(kPi * tx * ty / mm) - (u2 + v2) / (4.0 * mm);  // Stam 1999 eq. 15, D_1,m
+        case CorrelationFunction::c2: return std::log(2.0 * kPi * tx * ty * mm) - 1.5 * std::log(mm * mm + u2 + v2);  // D_2,m
+        case CorrelationFunction::c3:
+            return std::log(2.0 * tx * mm / (mm * mm + u2)) + std::log(2.0 * ty * mm / (mm * mm + v2));  // D_3,m
+    }
+    return 0.0;
+}
+
+// Terms whose log lies this far below the reference term add less than 1e-20 of it.
+constexpr double kNegligibleLog = -46.0;
+
+}  // namespace
+
+StamSurface stam_surface(const LobeQuery& query, Provenance* sources) {
+    check_method_options(query, "stam", {"surface", "sigma_h", "correlation_length", "correlation", "period", "amplitude"});
+    Provenance recorded;
+    const Recipe recipe = recorded_recipe(query.field->provenance);
+    StamSurface surface;
+    surface.kind = surface_kind(query, recipe);
+    switch (surface.kind) {
+        case StamSurfaceKind::gaussian: surface.gaussian = gaussian_parameters(query, recipe, recorded); break;
+        case StamSurfaceKind::grating: surface.grating = grating_parameters(query, recipe, recorded); break;
+        case StamSurfaceKind::cd:
+            if (recipe.kind != "cd") throw Error("stam: surface=cd needs a heightfield made by the cd generator");
+            surface.cd = recipe.cd;
+            recorded["stam.source.cd"] = "generator";
+            break;
+    }
+    if (sources) *sources = recorded;
+    return surface;
+}
+
+double window_lobe(const Footprint& footprint, double vx, double vy) {
+    if (footprint.shape == FootprintShape::box) {
+        // w̃ = a² sinc(π a v_x) sinc(π a v_y), A_c = a².
+        const double a = footprint.size_um;
+        const double amplitude = sinc(kPi * a * vx) * sinc(kPi * a * vy);
+        return a * a * amplitude * amplitude;
+    }
+    // w̃ = 2πσ² e^{−2π²σ²|v|²}, A_c = πσ²: |w̃|²/A_c = 4πσ² e^{−4π²σ²|v|²}.
+    const double sigma = footprint.sigma_um;
+    return 4.0 * kPi * sigma * sigma * std::exp(-4.0 * kPi * kPi * sigma * sigma * (vx * vx + vy * vy));
+}
+
+double stam_spectral_density(const GaussianFieldParameters& surface, double g, double vx, double vy) {
+    if (!(g > 0.0)) return 0.0;
+    const double c = std::cos(surface.orientation_rad), s = std::sin(surface.orientation_rad);
+    const double tx = surface.correlation_length_x_um, ty = surface.correlation_length_y_um;
+    const double big_u = 2.0 * kPi * tx * (c * vx + s * vy);   // Stam 1999 eq. 15: U = k u T_x
+    const double big_v = 2.0 * kPi * ty * (-s * vx + c * vy);  // V = k v T_y
+    const double u2 = big_u * big_u, v2 = big_v * big_v;
+    // Stam 1999 eq. 14: e^{−g} Σ g^m/m! D_m. The Poisson(g) weights g^m e^{−g}/m! overflow term by
+    // term for large g, and far out in v the largest term moves to large m, so each term is formed
+    // in log space relative to the largest one; the sum runs over the Poisson weights' bulk,
+    // g ± (10√g + 10).
+    const double spread = 10.0 * std::sqrt(g) + 10.0;
+    const int first = std::max(1, static_cast<int>(std::floor(g - spread)));
+    const int last = std::max(first, static_cast<int>(std::ceil(g + spread)));
+    const double log_g = std::log(g);
+    auto log_term = [&](int m) {
+        return -g + m * log_g - log_factorial(m) +
+               log_correlation_power_transform(surface.correlation, tx, ty, m, u2, v2);
+    };
+    double reference = -std::numeric_limits<double>::infinity();
+    for (int m = first; m <= last; ++m) reference = std::max(reference, log_term(m));
+    double sum = 0.0;
+    for (int m = first; m <= last; ++m) {
+        const double relative = log_term(m) - reference;
+        if (relative > kNegligibleLog) sum += std::exp(relative);
+    }
+    return sum * std::exp(reference);
+}
+
+std::complex<double> cd_bump_transform(const CdParameters& cd, double phase_per_height, double vx, double vy) {
+    const double a = cd.bump_width_um, b = cd.bump_length_um;
+    const double phase = phase_per_height * cd.bump_height_um;  // k w h0 of Stam 1999 eq. 24–25
+    const double along = b * sinc(kPi * b * vy);
+    if (cd.shape == BumpShape::flat)
+        // Φ⁰ = (e^{−iκh0} − 1) a sinc(π a v_x) · b sinc(π b v_y) (Stam 1999 eq. 24).
+        return (std::polar(1.0, -phase) - 1.0) * a * sinc(kPi * a * vx) * along;
+    // Φ¹ = a e^{−iκh0/2} sinc((κh0 + 2π a v_x)/2) − a sinc(π a v_x), times b sinc(π b v_y) (Stam 1999 eq. 25).
+    return (a * std::polar(1.0, -0.5 * phase) * sinc(0.5 * (phase + 2.0 * kPi * a * vx)) - a * sinc(kPi * a * vx)) *
+           along;
+}
+
+double grating_efficiency(int order, double phase_amplitude) {
+    // Jacobi–Anger: e^{−iz sin φ} = Σ_m J_m(z) e^{−imφ}, so order m carries J_m(z)² (J_−m² = J_m²).
+    const double j = std::cyl_bessel_j(static_cast<double>(std::abs(order)), phase_amplitude);
+    return j * j;
+}
+
+namespace {
+
+// Everything one wavelength's pixels share.
+struct Evaluation {
+    const LobeQuery* query = nullptr;
+    const StamSurface* surface = nullptr;
+    double lambda_um = 0.0;
+    bool has_material = false;
+    ComplexIndex eta;
+};
+
+// The orders m of spacing 1/period along a unit direction whose window transform can reach v:
+// all of them for a box (sinc² tails), those within 1.2/σ_c (|w̃|² < e^{−56}) for a Gaussian.
+struct OrderRange {
+    int first = 0;
+    int last = -1;
+};
+
+OrderRange orders_near(const Footprint& footprint, double lambda_um, double period_um, double v_along) {
+    const double reach = footprint.shape == FootprintShape::box ? 3.0 / lambda_um : 1.2 / footprint.sigma_um;
+    return {static_cast<int>(std::ceil((-v_along - reach) * period_um)),
+            static_cast<int>(std::floor((-v_along + reach) * period_um))};
+}
+
+// ⟨|R̃|²⟩/A_c for a Gaussian random field: e^{−g}|w̃|²/A_c + S_p, g = (2π ξ3 σ_h/λ)² (Stam 1999
+// eq. 12–16 with k w → 2π ξ3/λ).
+double gaussian_intensity(const Evaluation& e, double xi3_value, double vx, double vy) {
+    const GaussianFieldParameters& surface = e.surface->gaussian;
+    const double root_g = 2.0 * kPi * xi3_value * surface.sigma_h_um / e.lambda_um;
+    const double g = root_g * root_g;  // Stam 1999 §4: g = (k w σ_h)²
+    return std::exp(-g) * window_lobe(e.query->footprint, vx, vy) + stam_spectral_density(surface, g, vx, vy);
+}
+
+// A sinusoidal grating H = A sin(2π u/Λ): order m at v = −m ê/Λ with efficiency J_m(2π ξ3 A/λ)²
+// (Stam 1999 eq. 23, 26 for a periodic profile), each drawn as the window's transform; orders are
+// summed incoherently, which needs σ_c ≫ Λ.
+double grating_intensity(const Evaluation& e, double xi3_value, double vx, double vy) {
+    const GratingParameters& grating = e.surface->grating;
+    const double ex = std::cos(grating.angle_rad), ey = std::sin(grating.angle_rad);
+    const double z = 2.0 * kPi * xi3_value * grating.amplitude_um / e.lambda_um;
+    const OrderRange range = orders_near(e.query->footprint, e.lambda_um, grating.period_um, ex * vx + ey * vy);
+    double sum = 0.0;
+    for (int m = range.first; m <= range.last; ++m)
+        sum += grating_efficiency(m, z) *
+               window_lobe(e.query->footprint, vx + m * ex / grating.period_um, vy + m * ey / grating.period_um);
+    return sum;
+}
+
+// CD tracks along y at x_n = (n + 1/2)Δx with Poisson bumps of density ν_y per track, to first
+// order in the bumps as Stam's eq. 21 (p = 1 + Σ φ): the mean field is
+// w̃(v) + (ν_y/Δx) Φ(v) Σ_m ± w̃(v − m x̂/Δx) (Poisson summation over the tracks, Stam 1999 eq. 22),
+// so order 0 carries |1 + ν_y Φ/Δx|² and order m ≠ 0 carries |ν_y Φ/Δx|²; the Poisson scatter adds
+// ν_y |Φ(v)|²/Δx per unit area. The generator draws each track's bumps independently, so this
+// scatter spreads over all v_x; Stam's eq. 23 shares the y_m between tracks and gets lines instead.
+double cd_intensity(const Evaluation& e, double xi3_value, double vx, double vy) {
+    const CdParameters& cd = e.surface->cd;
+    const double per_area = cd.bump_density_per_um / cd.track_spacing_um;
+    const std::complex<double> bump = per_area * cd_bump_transform(cd, 2.0 * kPi * xi3_value / e.lambda_um, vx, vy);
+    const OrderRange range = orders_near(e.query->footprint, e.lambda_um, cd.track_spacing_um, -vx);
+    double sum = 0.0;
+    for (int m = range.first; m <= range.last; ++m) {
+        const double amplitude2 = std::norm(m == 0 ? 1.0 + bump : bump);
+        sum += amplitude2 * window_lobe(e.query->footprint, vx - m / cd.track_spacing_um, vy);
+    }
+    return sum + std::norm(bump) / per_area;
+}
+
+// f_r at one outgoing direction: ξ1 (Yan 2018 Fig. 6, with F at cos θ_d = |ψ|/2 as the FFT lobe)
+// times ⟨|R̃(ψ̄/λ)|²⟩/A_c of the surface statistics.
+double stam_value(const Evaluation& e, Vec3 omega_o) {
+    const LobeQuery& query = *e.query;
+    const Vec3 psi = query.omega_i + omega_o;
+    const double vx = psi.x / e.lambda_um, vy = psi.y / e.lambda_um;
+    const double xi3_value = xi3(query.model, query.omega_i, omega_o);
+    const double fresnel = e.has_material ? fresnel_conductor(e.eta, 0.5 * length(psi)) : 1.0;
+    double xi1 = xi1_geometric(query.model, query.omega_i, omega_o) * fresnel / (e.lambda_um * e.lambda_um);
+    if (query.model == DiffractionModel::kirchhoff) {
+        // Stam 1999 eq. 6–8: ξ2 = 1 − ψ̄·H'/(ψ·n) integrated by parts becomes |ψ|²/(ψ·n)².
+        const double by_parts = dot(psi, psi) / (psi.z * psi.z);
+        xi1 *= by_parts * by_parts;
+    }
+    switch (e.surface->kind) {
+        case StamSurfaceKind::gaussian: return xi1 * gaussian_intensity(e, xi3_value, vx, vy);
+        case StamSurfaceKind::grating: return xi1 * grating_intensity(e, xi3_value, vx, vy);
+        case StamSurfaceKind::cd: return xi1 * cd_intensity(e, xi3_value, vx, vy);
+    }
+    return 0.0;
+}
+
+// Sub-pixel a of K along a pixel side, in pixels: the FFT lobe's regular K-point grid, so that
+// both methods sample the same directions.
+double subpixel_offset(int a, int supersample) { return (a + 0.5) / supersample - 0.5; }
+
+void fill_layer(const Evaluation& e, LobeImage& image, std::size_t layer) {
+    const int n = image.resolution;
+    const int k = e.query->supersample;
+    const double inverse_count = 1.0 / (double(k) * k);
+    parallel_for(n, 4, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r)
+            for (int c = 0; c < n; ++c) {
+                double sum = 0.0;
+                for (int b = 0; b < k; ++b)
+                    for (int a = 0; a < k; ++a) {
+                        const DiskPoint p = disk_pixel_point(static_cast<int>(r), c, n, subpixel_offset(a, k),
+                                                             subpixel_offset(b, k));
+                        if (p.x * p.x + p.y * p.y >= 1.0) continue;
+                        sum += stam_value(e, direction_from_disk(p.x, p.y));
+                    }
+                image.at(layer, static_cast<int>(r), c) = static_cast<float>(sum * inverse_count);
+            }
+    });
+}
+
+// The footprint's linear size for the σ_c ≫ T comparison: σ_c, or half a box's side.
+double footprint_scale(const Footprint& footprint) {
+    return footprint.shape == FootprintShape::box ? 0.5 * footprint.size_um : footprint.sigma_um;
+}
+
+// Stam's statistics assume many correlation cells (or periods) inside the footprint.
+std::string wide_footprint_warning(const Footprint& footprint, double scale_um, const std::string& what) {
+    const double size = footprint_scale(footprint);
+    if (size >= kWideFootprintRatio * scale_um) return "";
+    return "footprint " + format_number(size) + " um < " + format_number(kWideFootprintRatio) + " x " + what + " " +
+           format_number(scale_um) + " um: Stam's formula assumes a footprint much wider than the surface's " +
+           "correlation scale";
+}
+
+void record_surface(const StamSurface& surface, const Footprint& footprint, LobeImage& image) {
+    Provenance& m = image.metadata;
+    m["stam.surface"] = kind_name(surface.kind);
+    std::string warning;
+    switch (surface.kind) {
+        case StamSurfaceKind::gaussian: {
+            const GaussianFieldParameters& g = surface.gaussian;
+            m["stam.correlation"] = correlation_name(g.correlation);
+            m["stam.sigma_h_um"] = format_number(g.sigma_h_um);
+            m["stam.correlation_length_x_um"] = format_number(g.correlation_length_x_um);
+            m["stam.correlation_length_y_um"] = format_number(g.correlation_length_y_um);
+            m["stam.orientation_deg"] = format_number(g.orientation_rad * 180.0 / kPi);
+            warning = wide_footprint_warning(footprint, std::max(g.correlation_length_x_um, g.correlation_length_y_um),
+                                             "correlation length T");
+            break;
+        }
+        case StamSurfaceKind::grating:
+            m["stam.period_um"] = format_number(surface.grating.period_um);
+            m["stam.amplitude_um"] = format_number(surface.grating.amplitude_um);
+            m["stam.angle_deg"] = format_number(surface.grating.angle_rad * 180.0 / kPi);
+            warning = wide_footprint_warning(footprint, surface.grating.period_um, "period");
+            break;
+        case StamSurfaceKind::cd: {
+            const CdParameters& cd = surface.cd;
+            m["stam.bump_height_um"] = format_number(cd.bump_height_um);
+            m["stam.bump_width_um"] = format_number(cd.bump_width_um);
+            m["stam.bump_length_um"] = format_number(cd.bump_length_um);
+            m["stam.track_spacing_um"] = format_number(cd.track_spacing_um);
+            m["stam.bump_density_per_um"] = format_number(cd.bump_density_per_um);
+            m["stam.bump_shape"] = cd.shape == BumpShape::flat ? "flat" : "ramp";
+            warning = wide_footprint_warning(footprint, cd.track_spacing_um, "track spacing");
+            // Eq. 21 keeps the bumps to first order: overlapping bumps (ν_y b of them per bump) are not.
+            if (cd.bump_density_per_um * cd.bump_length_um > 0.1)
+                warning += std::string(warning.empty() ? "" : "; ") + "bumps overlap (density x length " +
+                           format_number(cd.bump_density_per_um * cd.bump_length_um) +
+                           " > 0.1): Stam's eq. 21 treats them to first order";
+            break;
+        }
+    }
+    if (!warning.empty()) m["stam.warning"] = warning;
+}
+
+}  // namespace
+
+LobeImage stam_lobe(const LobeQuery& query) {
+    validate(query);
+    Provenance sources;
+    const StamSurface surface = stam_surface(query, &sources);
+    LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
+    for (std::size_t layer = 0; layer < query.wavelengths_um.size(); ++layer) {
+        Evaluation e;
+        e.query = &query;
+        e.surface = &surface;
+        e.lambda_um = query.wavelengths_um[layer];
+        e.has_material = !query.material.name.empty();
+        if (e.has_material) e.eta = complex_refractive_index(query.material.name, e.lambda_um);
+        fill_layer(e, image, layer);
+    }
+    record_surface(surface, query.footprint, image);
+    image.metadata.insert(sources.begin(), sources.end());
+    image.metadata["stam.model"] = to_string(query.model) + (query.model == DiffractionModel::kirchhoff
+                                                                 ? " (Stam's own: slope term integrated by parts)"
+                                                                 : " (xi2 = 1)");
+    return image;
+}
+
+}  // namespace glintscope
