@@ -21,7 +21,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -167,32 +166,22 @@ GratingParameters grating_parameters(const LobeQuery& query, const Recipe& recip
 
 // ---- Gaussian random fields (Stam 1999 §4) -------------------------------------------------
 
-// ln m!, tabulated for the terms of the series.
-double log_factorial(int m) {
-    static const std::vector<double> table = [] {
-        std::vector<double> values(4096);
-        for (std::size_t i = 1; i < values.size(); ++i) values[i] = values[i - 1] + std::log(double(i));
-        return values;
-    }();
-    return m < static_cast<int>(table.size()) ? table[m] : std::lgamma(m + 1.0);
-}
-
-// ln D_m, the transform of C^m (Stam 1999 eq. 15), with U = 2π T_x v_u, V = 2π T_y v_v in the
-// field's own axes (T_x along `orientation`).
-double log_correlation_power_transform(CorrelationFunction correlation, double tx, double ty, int m, double u2,
-                                       double v2) {
+// D_m, the transform of C^m (Stam 1999 eq. 15), with U² = (2π T_x v_u)², V² = (2π T_y v_v)² in
+// the field's own axes (T_x along `orientation`). Each is at most π T_x T_y or 4 T_x T_y, so the
+// terms of the series never overflow once their Poisson weights are formed stably.
+double correlation_power_transform(CorrelationFunction correlation, double tx, double ty, int m, double u2,
+                                   double v2) {
     const double mm = m;
     switch (correlation) {
-        case CorrelationFunction::c1: return std::log(kPi * tx * ty / mm) - (u2 + v2) / (4.0 * mm);  // Stam 1999 eq. 15, D_1,m
-        case CorrelationFunction::c2: return std::log(2.0 * kPi * tx * ty * mm) - 1.5 * std::log(mm * mm + u2 + v2);  // D_2,m
-        case CorrelationFunction::c3:
-            return std::log(2.0 * tx * mm / (mm * mm + u2)) + std::log(2.0 * ty * mm / (mm * mm + v2));  // D_3,m
+        case CorrelationFunction::c1: return kPi * tx * ty / mm * std::exp(-(u2 + v2) / (4.0 * mm));  // Stam 1999 eq. 15, D_1,m
+        case CorrelationFunction::c2: {
+            const double s = mm * mm + u2 + v2;
+            return 2.0 * kPi * tx * ty * mm / (s * std::sqrt(s));  // D_2,m
+        }
+        case CorrelationFunction::c3: return 2.0 * tx * mm / (mm * mm + u2) * (2.0 * ty * mm / (mm * mm + v2));  // D_3,m
     }
     return 0.0;
 }
-
-// Terms whose log lies this far below the reference term add less than 1e-20 of it.
-constexpr double kNegligibleLog = -46.0;
 
 }  // namespace
 
@@ -234,26 +223,20 @@ double stam_spectral_density(const GaussianFieldParameters& surface, double g, d
     const double big_u = 2.0 * kPi * tx * (c * vx + s * vy);   // Stam 1999 eq. 15: U = k u T_x
     const double big_v = 2.0 * kPi * ty * (-s * vx + c * vy);  // V = k v T_y
     const double u2 = big_u * big_u, v2 = big_v * big_v;
-    // Stam 1999 eq. 14: e^{−g} Σ g^m/m! D_m. The Poisson(g) weights g^m e^{−g}/m! overflow term by
-    // term for large g, and far out in v the largest term moves to large m, so each term is formed
-    // in log space relative to the largest one; the sum runs over the Poisson weights' bulk,
-    // g ± (10√g + 10).
+    // Stam 1999 eq. 14: Σ_m P_m D_m with Poisson(g) weights P_m = e^{−g} g^m/m!. g^m and m! overflow
+    // separately for large g, but P_m ≤ 1: the first weight of the Poisson bulk g ± (10√g + 10) is
+    // formed in log space and the others by P_{m+1} = P_m g/(m + 1); outside the bulk the weights
+    // are below e^{−50} of the largest, and every D_m is bounded by D_1(0).
     const double spread = 10.0 * std::sqrt(g) + 10.0;
     const int first = std::max(1, static_cast<int>(std::floor(g - spread)));
-    const int last = std::max(first, static_cast<int>(std::ceil(g + spread)));
-    const double log_g = std::log(g);
-    auto log_term = [&](int m) {
-        return -g + m * log_g - log_factorial(m) +
-               log_correlation_power_transform(surface.correlation, tx, ty, m, u2, v2);
-    };
-    double reference = -std::numeric_limits<double>::infinity();
-    for (int m = first; m <= last; ++m) reference = std::max(reference, log_term(m));
+    const int last = static_cast<int>(std::ceil(g + spread));
+    double weight = std::exp(-g + first * std::log(g) - std::lgamma(first + 1.0));
     double sum = 0.0;
     for (int m = first; m <= last; ++m) {
-        const double relative = log_term(m) - reference;
-        if (relative > kNegligibleLog) sum += std::exp(relative);
+        sum += weight * correlation_power_transform(surface.correlation, tx, ty, m, u2, v2);
+        weight *= g / (m + 1);
     }
-    return sum * std::exp(reference);
+    return sum;
 }
 
 std::complex<double> cd_bump_transform(const CdParameters& cd, double phase_per_height, double vx, double vy) {
