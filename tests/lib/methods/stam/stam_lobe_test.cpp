@@ -2,11 +2,11 @@
 // exact FFT lobes over many footprints of generated surfaces with the same statistics.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "glintscope/error.hpp"
@@ -275,6 +275,36 @@ TEST(StamLobe, SmoothSurfaceKeepsCoherentShare) {
     EXPECT_NEAR(mean[centre] / stam.values[centre], 1.0, 0.02);
 }
 
+// The mean FFT lobe of `model` over 49 footprints at θ_i = 30° (σ_h = 0.1 µm, g = 4.7 at the
+// mirror direction) against Stam's lobe of the same model: relative L2 and energy ratio.
+std::pair<double, double> oblique_convergence(DiffractionModel model) {
+    LobeQuery query = convergence_query(0.1, 48, 2);
+    query.model = model;
+    query.omega_i = direction_from_spherical(kPi / 6.0, 0.3);
+    const std::vector<double> mean = mean_fft_lobe(query, 7, kSize * kTexel);
+    query.method_options.clear();
+    const std::vector<double> expected = as_doubles(stam_lobe(query));
+    const double error = relative_l2(mean, expected, std::vector<bool>(mean.size(), true));
+    const double energy = image_sum(mean) / image_sum(expected);
+    std::printf("%s, 49 footprints: relative L2 %.4f, energy %.4f\n", to_string(model).c_str(), error, energy);
+    return {error, energy};
+}
+
+// Stam's own diffraction model is Yan's Kirchhoff, the slope term integrated by parts: the mean
+// of exact Kirchhoff FFT lobes (with the slope term) converges to it at oblique incidence.
+TEST(StamLobe, FftMeanConvergesKirchhoffOblique) {
+    const auto [error, energy] = oblique_convergence(DiffractionModel::kirchhoff);
+    EXPECT_LT(error, 0.1);
+    EXPECT_NEAR(energy, 1.0, 0.03);
+}
+
+// The statistics carry over to GHS, whose phase ξ3 = ψ·n varies over the lobe.
+TEST(StamLobe, FftMeanConvergesGhsOblique) {
+    const auto [error, energy] = oblique_convergence(DiffractionModel::ghs);
+    EXPECT_LT(error, 0.1);
+    EXPECT_NEAR(energy, 1.0, 0.03);
+}
+
 // ---- Periodic-like surfaces (Stam 1999 §5) -------------------------------------------------
 
 // Jacobi–Anger: Σ_m J_m(z)² = 1, the grating only redistributes light among its orders.
@@ -361,6 +391,71 @@ TEST(StamCd, OrderPositionsMatchFftOfGeneratedTracks) {
         EXPECT_EQ(stam_peak / n, static_cast<std::size_t>(row)) << "order " << m;
         const std::size_t expected = fft_peak;
         std::printf("cd order %+d: FFT/Stam at the peak %.3f\n", m, fft[expected] / stam[expected]);
+    }
+}
+
+// ---- Parameters, metadata, reciprocity ------------------------------------------------------
+
+// Options override the generator's parameters, and the lobe depends on nothing else: asking for
+// σ_h = 0.2 µm on a σ_h = 0.1 µm field gives the bits of the σ_h = 0.2 µm field.
+TEST(StamLobe, OptionsOverrideGeneratorParameters) {
+    LobeQuery query = query_for(generate(gaussian_recipe(0.1, 2.0, 128, 0.5)), DiffractionModel::rohs, 12.0, 0.5, 32, 1);
+    const LobeImage from_generator = stam_lobe(query);
+    EXPECT_EQ(from_generator.metadata.at("stam.sigma_h_um"), "0.1");
+    EXPECT_EQ(from_generator.metadata.at("stam.source.sigma_h"), "generator");
+    EXPECT_EQ(from_generator.metadata.count("stam.warning"), 0u);
+    query.method_options["sigma_h"] = "200nm";
+    const LobeImage overridden = stam_lobe(query);
+    EXPECT_EQ(overridden.metadata.at("stam.sigma_h_um"), "0.2");
+    EXPECT_EQ(overridden.metadata.at("stam.source.sigma_h"), "options");
+    LobeQuery rougher = query_for(generate(gaussian_recipe(0.2, 2.0, 128, 0.5)), DiffractionModel::rohs, 12.0, 0.5, 32, 1);
+    EXPECT_EQ(overridden.values, stam_lobe(rougher).values);
+}
+
+// Without generator provenance the field's measured Sq and 1/e correlation lengths are used.
+TEST(StamLobe, MeasuredStatisticsStandInForProvenance) {
+    Heightfield field = generate(gaussian_recipe(0.1, 2.0, 512, 0.25));
+    field.provenance.clear();
+    LobeQuery query = query_for(std::move(field), DiffractionModel::rohs, 12.0, 0.5, 32, 1);
+    const LobeImage image = stam_lobe(query);
+    EXPECT_EQ(image.metadata.at("stam.source.sigma_h"), "statistics");
+    EXPECT_NEAR(std::stod(image.metadata.at("stam.sigma_h_um")), 0.1, 1e-6);  // the generator sets Sq exactly
+    EXPECT_NEAR(std::stod(image.metadata.at("stam.correlation_length_x_um")), 2.0, 0.1);
+    EXPECT_NEAR(std::stod(image.metadata.at("stam.correlation_length_y_um")), 2.0, 0.1);
+}
+
+// σ_c < 3T breaks Stam's w⋆w ≈ A_c: the image says so; bad options are refused by name.
+TEST(StamLobe, WarnsAndRefuses) {
+    LobeQuery query = query_for(generate(gaussian_recipe(0.1, 2.0, 128, 0.5)), DiffractionModel::rohs, 5.0, 0.5, 16, 1);
+    EXPECT_NE(stam_lobe(query).metadata.at("stam.warning").find("correlation length"), std::string::npos);
+    query.method_options = {{"correlation", "c4"}};
+    EXPECT_THROW(stam_lobe(query), Error);
+    query.method_options = {{"step", "0.1"}};
+    EXPECT_THROW(stam_lobe(query), Error);
+    query.method_options = {{"surface", "cd"}};  // not a cd field
+    EXPECT_THROW(stam_lobe(query), Error);
+}
+
+// The reciprocal models give f(ω_i, ω_o) = f(ω_o, ω_i) (anisotropic C3 field, rotated), and the
+// image is the same for any thread count.
+TEST(StamLobe, ReciprocalAndThreadIndependent) {
+    Recipe recipe = gaussian_recipe(0.08, 2.0, 128, 0.5);
+    recipe.gaussian.correlation = CorrelationFunction::c3;
+    recipe.gaussian.correlation_length_y_um = 3.0;
+    recipe.gaussian.orientation_rad = 0.5;
+    const int n = 41;
+    const Vec3 a = direction_from_disk(disk_pixel_point(10, 25, n).x, disk_pixel_point(10, 25, n).y);
+    const Vec3 b = direction_from_disk(disk_pixel_point(22, 12, n).x, disk_pixel_point(22, 12, n).y);
+    for (DiffractionModel model : {DiffractionModel::rohs, DiffractionModel::rghs, DiffractionModel::kirchhoff}) {
+        LobeQuery query = query_for(generate(recipe), model, 12.0, 0.5, n, 1);
+        query.omega_i = a;
+        const LobeImage forward = stam_lobe(query);
+        query.omega_i = b;
+        const LobeImage backward = stam_lobe(query);
+        EXPECT_NEAR(forward.at(0, 22, 12) / backward.at(0, 10, 25), 1.0, 1e-5) << to_string(model);
+        set_thread_count(1);
+        EXPECT_EQ(stam_lobe(query).values, backward.values);
+        set_thread_count(0);
     }
 }
 
