@@ -127,9 +127,8 @@ GaussianFieldParameters gaussian_parameters(const LobeQuery& query, const Recipe
         height_source = length_source = "statistics";
     }
     override_length(query, "sigma_h", surface.sigma_h_um, height_source);
-    std::string unused = length_source;
     override_length(query, "correlation_length", surface.correlation_length_x_um, length_source);
-    override_length(query, "correlation_length", surface.correlation_length_y_um, unused);
+    if (length_source == "options") surface.correlation_length_y_um = surface.correlation_length_x_um;
     if (const auto option = query.method_options.find("correlation"); option != query.method_options.end()) {
         const std::string& name = option->second;
         if (name == "c1") surface.correlation = CorrelationFunction::c1;

@@ -12,6 +12,7 @@
 #include "glintscope/error.hpp"
 #include "glintscope/fft_lobe.hpp"
 #include "glintscope/generate.hpp"
+#include "glintscope/material.hpp"
 #include "glintscope/parallel.hpp"
 #include "methods/stam/stam_lobe.hpp"
 
@@ -410,6 +411,28 @@ TEST(StamLobe, OptionsOverrideGeneratorParameters) {
     EXPECT_EQ(overridden.metadata.at("stam.source.sigma_h"), "options");
     LobeQuery rougher = query_for(generate(gaussian_recipe(0.2, 2.0, 128, 0.5)), DiffractionModel::rohs, 12.0, 0.5, 32, 1);
     EXPECT_EQ(overridden.values, stam_lobe(rougher).values);
+}
+
+// The reflectance enters once per direction and wavelength, at cos θ_d = |ψ|/2 as in the FFT lobe.
+TEST(StamLobe, FresnelPerWavelengthAndDirection) {
+    LobeQuery query = query_for(generate(gaussian_recipe(0.1, 2.0, 128, 0.5)), DiffractionModel::rghs, 12.0, 0.5, 33, 1);
+    query.wavelengths_um = {0.45, 0.65};
+    query.omega_i = direction_from_spherical(0.6, 1.0);
+    const LobeImage plain = stam_lobe(query);
+    query.material.name = "Au";
+    const LobeImage gold = stam_lobe(query);
+    int checked = 0;
+    for (std::size_t layer = 0; layer < 2; ++layer)
+        for (int r = 0; r < 33; r += 4)
+            for (int c = 0; c < 33; c += 4) {
+                if (plain.at(layer, r, c) < 1e-3f) continue;
+                const DiskPoint p = disk_pixel_point(r, c, 33);
+                const Vec3 psi = query.omega_i + direction_from_disk(p.x, p.y);
+                const double fresnel = fresnel_reflectance("Au", query.wavelengths_um[layer], 0.5 * length(psi));
+                EXPECT_NEAR(gold.at(layer, r, c) / plain.at(layer, r, c), fresnel, 1e-5 * fresnel);
+                ++checked;
+            }
+    EXPECT_GT(checked, 20);
 }
 
 // Without generator provenance the field's measured Sq and 1/e correlation lengths are used.
