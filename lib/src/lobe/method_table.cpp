@@ -3,6 +3,7 @@
 #include "method.hpp"
 #include "methods/fft/fft_lobe.hpp"
 #include "methods/gabor/gabor.hpp"
+#include "methods/stam/stam_lobe.hpp"
 
 namespace glintscope {
 
@@ -10,6 +11,7 @@ const std::vector<MethodEntry>& method_table() {
     static const std::vector<MethodEntry> table = {
         fft_method(),
         gabor_method(),
+        stam_method(),
     };
     return table;
 }
