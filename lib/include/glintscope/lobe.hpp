@@ -114,4 +114,9 @@ MethodInfo lobe_method(const std::string& name);
 // prefixed with its name.
 LobeImage compute_lobe(const std::string& method, const LobeQuery& query);
 
+// The mean of compute_lobe over footprint centres (for large-area NDFs and expected lobes, Dong
+// 2015 §6): the images of `centres` averaged pixel by pixel in order (deterministic). The
+// metadata is the first image's, with "footprints.count" and the centres' bounding box.
+LobeImage compute_mean_lobe(const std::string& method, const LobeQuery& query, const std::vector<Point2>& centres);
+
 }  // namespace glintscope

@@ -147,4 +147,29 @@ std::string method_option_text(const LobeQuery& query, const std::string& key, c
     return query.method_options.count(key) ? option_text(query, key) : fallback;
 }
 
+LobeImage compute_mean_lobe(const std::string& method, const LobeQuery& query, const std::vector<Point2>& centres) {
+    if (centres.empty()) throw Error("averaging over footprints needs at least one centre");
+    LobeImage mean;
+    std::vector<double> sums;
+    Point2 low{INFINITY, INFINITY}, high{-INFINITY, -INFINITY};
+    for (const Point2& centre : centres) {
+        LobeQuery one = query;
+        one.footprint.centre_um = centre;
+        LobeImage image = compute_lobe(method, one);
+        if (sums.empty()) {
+            mean = std::move(image);
+            sums.assign(mean.values.begin(), mean.values.end());
+        } else {
+            for (std::size_t i = 0; i < sums.size(); ++i) sums[i] += image.values[i];
+        }
+        low = {std::min(low.x, centre.x), std::min(low.y, centre.y)};
+        high = {std::max(high.x, centre.x), std::max(high.y, centre.y)};
+    }
+    for (std::size_t i = 0; i < sums.size(); ++i) mean.values[i] = static_cast<float>(sums[i] / centres.size());
+    mean.metadata["footprints.count"] = std::to_string(centres.size());
+    mean.metadata["footprints.centres_um"] = shortest_text(low.x) + "," + shortest_text(low.y) + " to " +
+                                             shortest_text(high.x) + "," + shortest_text(high.y);
+    return mean;
+}
+
 }  // namespace glintscope
