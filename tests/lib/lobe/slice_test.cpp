@@ -20,13 +20,19 @@ TEST(Slice, BilinearSlicesOfALinearFunctionAreExact) {
             image.at(0, r, c) = float(1.0 + p.x + 2.0 * p.y);
         }
     for (const SlicePoint& point : image_slice(image, parse_slice_direction("x"), 40)) {
-        if (std::fabs(point.position) < 0.95) EXPECT_NEAR(point.values[0], 1.0 + point.position, 1e-5);
+        if (std::fabs(point.position) < 0.95) {
+            EXPECT_NEAR(point.values[0], 1.0 + point.position, 1e-5);
+        }
     }
     for (const SlicePoint& point : image_slice(image, parse_slice_direction("y"), 40)) {
-        if (std::fabs(point.position) < 0.95) EXPECT_NEAR(point.values[0], 1.0 + 2.0 * point.position, 1e-5);
+        if (std::fabs(point.position) < 0.95) {
+            EXPECT_NEAR(point.values[0], 1.0 + 2.0 * point.position, 1e-5);
+        }
     }
     for (const SlicePoint& point : image_slice(image, parse_slice_direction("45"), 40)) {
-        if (std::fabs(point.position) < 0.9) EXPECT_NEAR(point.values[0], 1.0 + 3.0 * point.position / std::sqrt(2.0), 1e-5);
+        if (std::fabs(point.position) < 0.9) {
+            EXPECT_NEAR(point.values[0], 1.0 + 3.0 * point.position / std::sqrt(2.0), 1e-5);
+        }
     }
     EXPECT_THROW(parse_slice_direction("diagonal"), Error);
 }
