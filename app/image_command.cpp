@@ -14,6 +14,7 @@
 #include "glintscope/lobe.hpp"
 #include "glintscope/lobe_output.hpp"
 #include "glintscope/query_keys.hpp"
+#include "glintscope/slice.hpp"
 #include "glintscope/spectrum.hpp"
 #include "glintscope/text_format.hpp"
 
@@ -34,6 +35,8 @@ struct ImageCommandSettings {
     bool spectral_channels = false;
     bool bare = false;
     std::string exposure_from;
+    std::string footprints;
+    std::vector<std::string> slices;
     std::string ocio_config;
     std::string colour_space = "lin_rec709";
 };
@@ -44,6 +47,13 @@ void add_output_flags(CLI::App& command, ImageCommandSettings& settings) {
     command.add_option("-o,--output", settings.output, "Output EXR (scene-linear float; the query in its header)")
         ->required();
     command.add_option("--png", settings.png, "Also write a display PNG");
+    command.add_option("--footprints", settings.footprints,
+                       "Average over footprints: N seeded random centres, grid (3 x 3) or grid:N (large-area NDFs, "
+                       "expected lobes)");
+    command.add_option("--slice", settings.slices,
+                       "Also write OUT-slice-DIR.csv: a 1-D slice through the centre along x, y or an angle in degrees "
+                       "(repeatable; Dong 2015 Fig. 9)")
+        ->type_name("x|y|DEG");
     command.add_option("--json", settings.json, "Also write a JSON sidecar with the query and summary numbers");
     command.add_option("--illuminant", settings.illuminant, "d65 or e")->capture_default_str();
     command.add_option("--exposure", settings.exposure, "PNG exposure: auto or EV")->capture_default_str();
@@ -82,8 +92,16 @@ LobeOutputOptions output_options(const ImageCommandSettings& settings) {
     return options;
 }
 
+std::string slice_path(const ImageCommandSettings& settings, const std::string& direction) {
+    return settings.output.substr(0, settings.output.size() - 4) + "-slice-" + direction + ".csv";
+}
+
 void check_outputs(const ImageCommandSettings& settings) {
     check_output_path(settings.output, {"exr"}, "-o");
+    for (const std::string& direction : settings.slices) {
+        parse_slice_direction(direction);
+        check_output_path(slice_path(settings, direction), {"csv"}, "--slice");
+    }
     if (!settings.png.empty()) check_output_path(settings.png, {"png"}, "--png");
     if (!settings.json.empty()) check_output_path(settings.json, {"json"}, "--json");
 }
@@ -160,6 +178,8 @@ void run(const ImageCommandSettings& settings, const std::string& heightfield, s
     DisplayExposure exposure = display_exposure(image, options.colour);
     if (!settings.png.empty()) exposure = write_lobe_png(image, settings.png, options);
     if (!settings.json.empty()) write_lobe_json(image, settings.json, options);
+    for (const std::string& direction : settings.slices)
+        write_text_file(slice_path(settings, direction), slice_csv(image, image_slice(image, parse_slice_direction(direction), 2 * image.resolution)));
     if (verbosity().verbose) explain_choices(image, method, exposure);
     print_summary(image, method, query);
 }

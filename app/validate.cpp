@@ -33,19 +33,6 @@ struct ValidateSettings {
     double fail_above = -1.0;
 };
 
-// "N" (seeded random centres), "grid" (3 × 3) or "grid:N" (⌈√N⌉² on a grid).
-std::vector<Point2> centres_of(const ValidateSettings& settings, const LobeQuery& query) {
-    const std::string& text = settings.footprints;
-    if (text == "1") return {query.footprint.centre_um};
-    const bool grid = text.starts_with("grid");
-    const std::string count = grid ? (text.size() > 5 && text[4] == ':' ? text.substr(5) : "9") : text;
-    try {
-        return footprint_centres(*query.field, query.footprint, static_cast<int>(parse_integer(count, 1, 100000)), grid);
-    } catch (const Error& e) {
-        throw Error("--footprints must be N, grid or grid:N: " + std::string(e.what()));
-    }
-}
-
 ValidationPlan plan_of(const ValidateSettings& settings) {
     ValidationPlan plan;
     QueryText text = settings.given;
@@ -55,22 +42,13 @@ ValidationPlan plan_of(const ValidateSettings& settings) {
     plan.reference_method = settings.reference_method;
     lobe_method(plan.test_method);
     lobe_method(plan.reference_method);
-    plan.centres = centres_of(settings, plan.base);
+    if (settings.footprints != "1") plan.centres = parse_footprints(settings.footprints, plan.base);
     if (!settings.models.empty())
         for (const std::string& name : split(settings.models, ',')) plan.models.push_back(parse_diffraction_model(name));
     if (!settings.kernels_per_texel.empty())
         for (const std::string& value : split(settings.kernels_per_texel, ','))
             plan.kernels_per_texel.push_back(static_cast<int>(parse_integer(value, 1, 16)));
     return plan;
-}
-
-void write_text(const std::string& path, const std::string& text) {
-    write_atomically(path, [&](const std::string& temporary) {
-        std::ofstream stream(temporary, std::ios::binary);
-        stream << text;
-        stream.close();
-        if (!stream) throw Error("cannot write '" + path + "'");
-    });
 }
 
 void print_table(const ValidationPlan& plan, const std::vector<ValidationRow>& rows) {
@@ -127,7 +105,7 @@ void run(const ValidateSettings& settings) {
         for (const ConvergencePoint& point : points)
             std::printf("%-24s %10.4g  relative L2 %8.4f%%\n", point.series.c_str(), point.parameter,
                         100.0 * point.relative_l2);
-        write_text(settings.convergence, convergence_csv(points));
+        write_text_file(settings.convergence, convergence_csv(points));
         return;
     }
     std::vector<ValidationRow> rows;
@@ -141,8 +119,8 @@ void run(const ValidateSettings& settings) {
             });
     }
     print_table(plan, rows);
-    if (!settings.report.empty()) write_text(settings.report, validation_json(plan, rows));
-    if (!settings.csv.empty()) write_text(settings.csv, validation_csv(rows));
+    if (!settings.report.empty()) write_text_file(settings.report, validation_json(plan, rows));
+    if (!settings.csv.empty()) write_text_file(settings.csv, validation_csv(rows));
     if (settings.fail_above >= 0.0)
         for (const ValidationRow& row : rows)
             if (row.comparison.relative_l2 > settings.fail_above)

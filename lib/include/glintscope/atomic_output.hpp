@@ -16,6 +16,9 @@ void write_atomically(const std::string& path, const std::function<void(const st
 // directory. Throws Error naming `what` ("-o", "--png", ...) and the problem.
 void check_output_path(const std::string& path, const std::vector<std::string>& extensions, const std::string& what);
 
+// Writes `text` to `path` atomically (CSV, JSON, reports).
+void write_text_file(const std::string& path, const std::string& text);
+
 // The lower-case extension of a path without the dot ("exr", "x3p", ...).
 std::string file_extension(const std::string& path);
 

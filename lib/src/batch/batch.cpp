@@ -91,12 +91,7 @@ void write_record(const Manifest& manifest, const std::string& path) {
                           {"exr", panel_path(manifest, panel)}});
     }
     record["panels"] = panels;
-    write_atomically(path, [&](const std::string& temporary) {
-        std::ofstream stream(temporary, std::ios::binary);
-        stream << record.dump(2) << "\n";
-        stream.close();
-        if (!stream) throw Error("cannot write '" + path + "'");
-    });
+    write_text_file(path, record.dump(2) + "\n");
 }
 
 void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchResult& result) {

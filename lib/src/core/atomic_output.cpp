@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 #include <system_error>
 #include <unistd.h>
 
@@ -17,6 +18,15 @@ std::string file_extension(const std::string& path) {
     if (!ext.empty() && ext.front() == '.') ext.erase(0, 1);
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
     return ext;
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+    write_atomically(path, [&](const std::string& temporary) {
+        std::ofstream stream(temporary, std::ios::binary);
+        stream << text;
+        stream.close();
+        if (!stream) throw Error("cannot write '" + path + "'");
+    });
 }
 
 void check_output_path(const std::string& path, const std::vector<std::string>& extensions, const std::string& what) {

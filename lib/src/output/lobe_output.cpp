@@ -303,12 +303,7 @@ void write_lobe_json(const LobeImage& lobe, const std::string& path, const LobeO
     }
     json += first ? "}\n" : "\n  }\n";
     json += "}\n";
-    write_atomically(path, [&](const std::string& temporary) {
-        std::ofstream stream(temporary, std::ios::binary);
-        stream << json;
-        stream.close();
-        if (!stream) throw Error("cannot write '" + path + "'");
-    });
+    write_text_file(path, json);
 }
 
 double recorded_exposure_ev(const std::string& json_path) {
