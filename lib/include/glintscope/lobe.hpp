@@ -14,7 +14,7 @@
 
 namespace glintscope {
 
-enum class FootprintShape { gaussian, box };
+enum class FootprintShape { gaussian, box, whole };  // whole: uniform over one period of the field
 
 // The coherence footprint (conventions.md "Coherence / footprint"): a Gaussian
 // w(s) = exp(−|s − x_c|²/(2σ_c²)), A_c = πσ_c², or a box of side `size_um`.

@@ -1,0 +1,333 @@
+#include "geometric/normal_density.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "glintscope/error.hpp"
+#include "glintscope/parallel.hpp"
+
+namespace glintscope {
+namespace {
+
+// Cell lattice over the integration domain: corners (x0 + i·step, y0 + j·step), 0 ≤ i ≤ nx,
+// 0 ≤ j ≤ ny, on the periodically tiled surface.
+struct Lattice {
+    double x0 = 0.0;
+    double y0 = 0.0;
+    double step = 0.0;
+    long long nx = 0;
+    long long ny = 0;
+};
+
+// The footprint weight of a surface element at s (per µm²), zero outside the truncated support.
+struct Weight {
+    FootprintShape shape = FootprintShape::whole;
+    Point2 centre;
+    double inverse_two_variance = 0.0;  // Gaussian: 1/(2σ_w²)
+    double cutoff_squared = 0.0;        // Gaussian: (kTruncationSigmas·σ_w)²
+    double scale = 0.0;                 // normalisation: 1/(2πσ_w²), 1/side², 1/(W·H)
+
+    double operator()(double x, double y) const {
+        if (shape != FootprintShape::gaussian) return scale;
+        const double r2 = (x - centre.x) * (x - centre.x) + (y - centre.y) * (y - centre.y);
+        return r2 > cutoff_squared ? 0.0 : scale * std::exp(-r2 * inverse_two_variance);
+    }
+};
+
+// First lattice index at or below `from` and the count of cells up to `to`, for a lattice
+// through the sample positions (k + ½)·dx with step h.
+void aligned_axis(double from, double to, double texel, double step, double& origin, long long& count) {
+    const double first = std::floor((from - 0.5 * texel) / step);
+    const double last = std::ceil((to - 0.5 * texel) / step);
+    origin = 0.5 * texel + first * step;
+    count = static_cast<long long>(last - first);
+}
+
+Lattice lattice_for(const BicubicInterpolant& surface, const Footprint& footprint, int refinement) {
+    const double texel = surface.texel_um();
+    const double step = texel / refinement;
+    Lattice lattice;
+    lattice.step = step;
+    if (footprint.shape == FootprintShape::whole) {
+        // One period, aligned with the samples so that cells do not straddle the bicubic's pieces.
+        lattice.x0 = lattice.y0 = 0.5 * texel;
+        lattice.nx = static_cast<long long>(surface.cols()) * refinement;
+        lattice.ny = static_cast<long long>(surface.rows()) * refinement;
+    } else if (footprint.shape == FootprintShape::box) {
+        // Aligned with the box edges, so the box's weight is integrated exactly.
+        const double side = footprint.size_um;
+        lattice.nx = lattice.ny = static_cast<long long>(std::ceil(side / step));
+        lattice.step = side / static_cast<double>(lattice.nx);
+        lattice.x0 = footprint.centre_um.x - 0.5 * side;
+        lattice.y0 = footprint.centre_um.y - 0.5 * side;
+    } else {
+        const double reach = kTruncationSigmas * footprint_weight_sigma_um(footprint);
+        aligned_axis(footprint.centre_um.x - reach, footprint.centre_um.x + reach, texel, step, lattice.x0, lattice.nx);
+        aligned_axis(footprint.centre_um.y - reach, footprint.centre_um.y + reach, texel, step, lattice.y0, lattice.ny);
+    }
+    return lattice;
+}
+
+Weight weight_for(const BicubicInterpolant& surface, const Footprint& footprint) {
+    Weight weight;
+    weight.shape = footprint.shape;
+    weight.centre = footprint.centre_um;
+    if (footprint.shape == FootprintShape::whole) {
+        weight.scale = 1.0 / (surface.cols() * surface.texel_um() * surface.rows() * surface.texel_um());
+    } else if (footprint.shape == FootprintShape::box) {
+        weight.scale = 1.0 / (footprint.size_um * footprint.size_um);
+    } else {
+        const double sigma = footprint_weight_sigma_um(footprint);
+        weight.inverse_two_variance = 0.5 / (sigma * sigma);
+        weight.cutoff_squared = kTruncationSigmas * kTruncationSigmas * sigma * sigma;
+        weight.scale = 1.0 / (2.0 * std::numbers::pi * sigma * sigma);
+    }
+    return weight;
+}
+
+// Image-plane points in pixel units: u along columns, v along rows (down).
+struct Pixel {
+    double u = 0.0;
+    double v = 0.0;
+};
+
+struct Polygon {
+    std::array<Pixel, 12> points;  // a triangle clipped by four half-planes has at most 7
+    int count = 0;
+};
+
+// The part of `in` where side·(coordinate − bound) ≥ 0 (Sutherland–Hodgman, one edge).
+Polygon clip(const Polygon& in, bool along_u, double bound, double side) {
+    Polygon out;
+    for (int k = 0; k < in.count; ++k) {
+        const Pixel a = in.points[k];
+        const Pixel b = in.points[(k + 1) % in.count];
+        const double da = side * ((along_u ? a.u : a.v) - bound);
+        const double db = side * ((along_u ? b.u : b.v) - bound);
+        if (da >= 0.0) out.points[out.count++] = a;
+        if ((da >= 0.0) != (db >= 0.0)) {
+            const double t = da / (da - db);
+            out.points[out.count++] = {a.u + t * (b.u - a.u), a.v + t * (b.v - a.v)};
+        }
+    }
+    return out;
+}
+
+double area(const Polygon& polygon) {
+    double twice = 0.0;
+    for (int k = 0; k < polygon.count; ++k) {
+        const Pixel a = polygon.points[k];
+        const Pixel b = polygon.points[(k + 1) % polygon.count];
+        twice += a.u * b.v - b.u * a.v;
+    }
+    return 0.5 * std::abs(twice);
+}
+
+int clamp_index(double coordinate, int resolution) {
+    return std::clamp(static_cast<int>(std::floor(coordinate)), 0, resolution - 1);
+}
+
+// A triangle whose image collapsed onto a line (a surface that is cylindrical there, like a
+// grating, or a fold seen edge-on): the uniform triangle's image on the line has the tent
+// density of its 1-D marginal, rising from the first to the middle corner and falling to the
+// last, with cumulative mass (t − t0)²/((t2 − t0)(t1 − t0)) up to t1 and 1 − (t2 − t)²/((t2 −
+// t0)(t2 − t1)) beyond. Each stretch between pixel-edge crossings gets its exact share.
+void deposit_segment(double* image, int resolution, Pixel a, Pixel b, Pixel c, double mass) {
+    // Parametrise the line by the coordinate along which it spreads most.
+    const bool along_u = std::max({a.u, b.u, c.u}) - std::min({a.u, b.u, c.u}) >=
+                         std::max({a.v, b.v, c.v}) - std::min({a.v, b.v, c.v});
+    std::array<Pixel, 3> corners{a, b, c};
+    std::sort(corners.begin(), corners.end(),
+              [&](Pixel p, Pixel q) { return along_u ? p.u < q.u : p.v < q.v; });
+    const Pixel first = corners[0];
+    const Pixel last = corners[2];
+    const double span = along_u ? last.u - first.u : last.v - first.v;
+    if (!(span > 0.0)) {
+        image[static_cast<std::size_t>(clamp_index(first.v, resolution)) * resolution + clamp_index(first.u, resolution)] += mass;
+        return;
+    }
+    const double t1 = ((along_u ? corners[1].u : corners[1].v) - (along_u ? first.u : first.v)) / span;
+    const auto cumulative = [t1](double t) {
+        if (t <= 0.0) return 0.0;
+        if (t >= 1.0) return 1.0;
+        return t <= t1 ? t * t / t1 : 1.0 - (1.0 - t) * (1.0 - t) / (1.0 - t1);
+    };
+    // Parameters where the segment first → last crosses a pixel edge in u or in v.
+    std::vector<double> cuts{0.0, 1.0};
+    const double du = last.u - first.u;
+    const double dv = last.v - first.v;
+    for (int k = static_cast<int>(std::ceil(std::min(first.u, last.u))); k <= std::floor(std::max(first.u, last.u)); ++k)
+        if (du != 0.0) cuts.push_back((k - first.u) / du);
+    for (int k = static_cast<int>(std::ceil(std::min(first.v, last.v))); k <= std::floor(std::max(first.v, last.v)); ++k)
+        if (dv != 0.0) cuts.push_back((k - first.v) / dv);
+    std::sort(cuts.begin(), cuts.end());
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+        const double share = cumulative(cuts[k + 1]) - cumulative(cuts[k]);
+        if (share <= 0.0) continue;
+        const double middle = 0.5 * (cuts[k] + cuts[k + 1]);
+        const int row = clamp_index(first.v + middle * dv, resolution);
+        image[static_cast<std::size_t>(row) * resolution + clamp_index(first.u + middle * du, resolution)] += mass * share;
+    }
+}
+
+// Spreads `mass` uniformly over the triangle abc: each pixel gets mass × (its overlap area /
+// the triangle's area), the overlap found by clipping the triangle to the pixel's row, then column.
+void deposit_triangle(double* image, int resolution, Pixel a, Pixel b, Pixel c, double mass) {
+    const int c0 = clamp_index(std::min({a.u, b.u, c.u}), resolution);
+    const int c1 = clamp_index(std::max({a.u, b.u, c.u}), resolution);
+    const int r0 = clamp_index(std::min({a.v, b.v, c.v}), resolution);
+    const int r1 = clamp_index(std::max({a.v, b.v, c.v}), resolution);
+    if (c0 == c1 && r0 == r1) {
+        image[static_cast<std::size_t>(r0) * resolution + c0] += mass;
+        return;
+    }
+    Polygon triangle;
+    triangle.points[0] = a;
+    triangle.points[1] = b;
+    triangle.points[2] = c;
+    triangle.count = 3;
+    const double total = area(triangle);
+    const double extent = std::max(c1 - c0, r1 - r0) + 1.0;
+    if (total < 1e-9 * extent * extent) {
+        deposit_segment(image, resolution, a, b, c, mass);
+        return;
+    }
+    const double density = mass / total;
+    for (int row = r0; row <= r1; ++row) {
+        const Polygon strip = clip(clip(triangle, false, row, 1.0), false, row + 1.0, -1.0);
+        if (strip.count < 3) continue;
+        for (int col = c0; col <= c1; ++col) {
+            const Polygon piece = clip(clip(strip, true, col, 1.0), true, col + 1.0, -1.0);
+            if (piece.count >= 3) image[static_cast<std::size_t>(row) * resolution + col] += density * area(piece);
+        }
+    }
+}
+
+// Where the normal of gradient (H_x, H_y) lands in pixel units: m = (−H_x, −H_y, 1)/|…| at disk
+// point (m_x, m_y), column u = (m_x + 1)·N/2, row v = (1 − m_y)·N/2 (conventions.md).
+Pixel normal_pixel(const SurfacePoint& point, double half_resolution) {
+    const double inverse_norm = 1.0 / std::sqrt(1.0 + point.dh_dx * point.dh_dx + point.dh_dy * point.dh_dy);
+    return {(1.0 - point.dh_dx * inverse_norm) * half_resolution, (1.0 + point.dh_dy * inverse_norm) * half_resolution};
+}
+
+constexpr long long kRowsPerEvaluation = 32;
+
+// Accumulates the cell rows [j_begin, j_end) into `image` (N×N).
+void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, const Weight& weight, int resolution,
+                     long long j_begin, long long j_end, double* image) {
+    const long long corners_x = lattice.nx + 1;
+    const double half_resolution = 0.5 * resolution;
+    const double half_cell_area = 0.5 * lattice.step * lattice.step;
+    std::vector<SurfacePoint> corners;
+    std::vector<Pixel> pixels;
+    for (long long j0 = j_begin; j0 < j_end; j0 += kRowsPerEvaluation) {
+        const long long rows = std::min(kRowsPerEvaluation, j_end - j0);
+        corners.resize(static_cast<std::size_t>(corners_x * (rows + 1)));
+        surface.evaluate_grid(lattice.x0, lattice.y0 + j0 * lattice.step, lattice.step, static_cast<int>(corners_x),
+                              static_cast<int>(rows + 1), corners.data());
+        pixels.resize(corners.size());
+        for (std::size_t k = 0; k < corners.size(); ++k) pixels[k] = normal_pixel(corners[k], half_resolution);
+        for (long long j = 0; j < rows; ++j) {
+            const double y = lattice.y0 + (j0 + j) * lattice.step;
+            const Pixel* lower = &pixels[static_cast<std::size_t>(j * corners_x)];
+            const Pixel* upper = lower + corners_x;
+            for (long long i = 0; i < lattice.nx; ++i) {
+                const double x = lattice.x0 + i * lattice.step;
+                // Two triangles per cell, each weighted at its centroid.
+                const double lower_mass = half_cell_area * weight(x + lattice.step * (2.0 / 3.0), y + lattice.step / 3.0);
+                const double upper_mass = half_cell_area * weight(x + lattice.step / 3.0, y + lattice.step * (2.0 / 3.0));
+                if (lower_mass > 0.0) deposit_triangle(image, resolution, lower[i], lower[i + 1], upper[i + 1], lower_mass);
+                if (upper_mass > 0.0) deposit_triangle(image, resolution, lower[i], upper[i + 1], upper[i], upper_mass);
+            }
+        }
+    }
+}
+
+// Fixed work split, independent of the thread count, so the ordered sum is bit-identical.
+constexpr long long kStripes = 16;
+
+}  // namespace
+
+double footprint_weight_sigma_um(const Footprint& footprint) {
+    // |w|²/A_c with w of standard deviation σ_c is a normalised Gaussian of σ_c/√2.
+    return footprint.sigma_um / std::numbers::sqrt2;
+}
+
+std::vector<double> normal_density(const BicubicInterpolant& surface, const Footprint& footprint, int resolution,
+                                   const NormalDensitySettings& settings) {
+    if (resolution < 1 || resolution > 8192)
+        throw Error("NDF resolution must be between 1 and 8192, got " + std::to_string(resolution));
+    if (settings.refinement < 1 || settings.refinement > 64)
+        throw Error("NDF refinement must be between 1 and 64, got " + std::to_string(settings.refinement));
+    if (!(settings.intrinsic_roughness >= 0.0 && settings.intrinsic_roughness <= 1.0))
+        throw Error("intrinsic_roughness must be between 0 and 1 radian, got " +
+                    std::to_string(settings.intrinsic_roughness));
+    const Lattice lattice = lattice_for(surface, footprint, settings.refinement);
+    const Weight weight = weight_for(surface, footprint);
+    const std::size_t pixels = static_cast<std::size_t>(resolution) * resolution;
+    const long long stripes = std::min(kStripes, lattice.ny);
+    std::vector<std::vector<double>> partial(static_cast<std::size_t>(stripes));
+    parallel_for(static_cast<std::size_t>(stripes), 1, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t s = begin; s < end; ++s) {
+            partial[s].assign(pixels, 0.0);
+            const long long j_begin = lattice.ny * static_cast<long long>(s) / stripes;
+            const long long j_end = lattice.ny * static_cast<long long>(s + 1) / stripes;
+            accumulate_rows(surface, lattice, weight, resolution, j_begin, j_end, partial[s].data());
+        }
+    });
+    std::vector<double> density(pixels, 0.0);
+    const double inverse_pixel_area = 1.0 / disk_pixel_area(resolution);
+    parallel_for(pixels, 4096, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) {
+            double sum = 0.0;
+            for (const auto& stripe : partial) sum += stripe[k];
+            density[k] = sum * inverse_pixel_area;
+        }
+    });
+    if (settings.intrinsic_roughness > 0.0) blur_normal_density(density, resolution, settings.intrinsic_roughness);
+    return density;
+}
+
+void blur_normal_density(std::vector<double>& density, int resolution, double roughness) {
+    const double sigma_pixels = roughness * 0.5 * resolution;
+    const int radius = static_cast<int>(std::ceil(4.0 * sigma_pixels));
+    std::vector<double> kernel(2 * radius + 1);
+    for (int k = -radius; k <= radius; ++k)
+        kernel[k + radius] = std::exp(-0.5 * k * k / (sigma_pixels * sigma_pixels));
+    double before = 0.0;
+    for (double value : density) before += value;
+    const std::size_t n = static_cast<std::size_t>(resolution);
+    std::vector<double> pass(density.size(), 0.0);
+    // Along rows, then along columns; each output pixel sums its taps in a fixed order.
+    parallel_for(n, 16, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r)
+            for (int c = 0; c < resolution; ++c) {
+                double sum = 0.0;
+                for (int k = std::max(-radius, -c); k <= std::min(radius, resolution - 1 - c); ++k)
+                    sum += kernel[k + radius] * density[r * n + c + k];
+                pass[r * n + c] = sum;
+            }
+    });
+    parallel_for(n, 16, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r)
+            for (int c = 0; c < resolution; ++c) {
+                const DiskPoint p = disk_pixel_point(static_cast<int>(r), c, resolution);
+                double sum = 0.0;
+                if (p.x * p.x + p.y * p.y < 1.0)
+                    for (int k = std::max(-radius, -static_cast<int>(r));
+                         k <= std::min(radius, resolution - 1 - static_cast<int>(r)); ++k)
+                        sum += kernel[k + radius] * pass[(r + k) * n + c];
+                density[r * n + c] = sum;
+            }
+    });
+    // Mass blurred past the rim (and the kernel's own sum) is restored by one common factor.
+    double after = 0.0;
+    for (double value : density) after += value;
+    if (after > 0.0)
+        for (double& value : density) value *= before / after;
+}
+
+}  // namespace glintscope
