@@ -46,27 +46,26 @@ void aligned_axis(double from, double to, double texel, double step, double& ori
     count = static_cast<long long>(last - first);
 }
 
-Lattice lattice_for(const BicubicInterpolant& surface, const Footprint& footprint, int refinement) {
+// The base lattice: one cell per texel, aligned with the samples (a box: with its edges, so
+// the box's weight is integrated exactly); cells are subdivided further where needed.
+Lattice lattice_for(const BicubicInterpolant& surface, const Footprint& footprint) {
     const double texel = surface.texel_um();
-    const double step = texel / refinement;
     Lattice lattice;
-    lattice.step = step;
+    lattice.step = texel;
     if (footprint.shape == FootprintShape::whole) {
-        // One period, aligned with the samples so that cells do not straddle the bicubic's pieces.
         lattice.x0 = lattice.y0 = 0.5 * texel;
-        lattice.nx = static_cast<long long>(surface.cols()) * refinement;
-        lattice.ny = static_cast<long long>(surface.rows()) * refinement;
+        lattice.nx = surface.cols();
+        lattice.ny = surface.rows();
     } else if (footprint.shape == FootprintShape::box) {
-        // Aligned with the box edges, so the box's weight is integrated exactly.
         const double side = footprint.size_um;
-        lattice.nx = lattice.ny = static_cast<long long>(std::ceil(side / step));
+        lattice.nx = lattice.ny = static_cast<long long>(std::ceil(side / texel));
         lattice.step = side / static_cast<double>(lattice.nx);
         lattice.x0 = footprint.centre_um.x - 0.5 * side;
         lattice.y0 = footprint.centre_um.y - 0.5 * side;
     } else {
         const double reach = kTruncationSigmas * footprint_weight_sigma_um(footprint);
-        aligned_axis(footprint.centre_um.x - reach, footprint.centre_um.x + reach, texel, step, lattice.x0, lattice.nx);
-        aligned_axis(footprint.centre_um.y - reach, footprint.centre_um.y + reach, texel, step, lattice.y0, lattice.ny);
+        aligned_axis(footprint.centre_um.x - reach, footprint.centre_um.x + reach, texel, texel, lattice.x0, lattice.nx);
+        aligned_axis(footprint.centre_um.y - reach, footprint.centre_um.y + reach, texel, texel, lattice.y0, lattice.ny);
     }
     return lattice;
 }
@@ -215,32 +214,73 @@ Pixel normal_pixel(const SurfacePoint& point, double half_resolution) {
 
 constexpr long long kRowsPerEvaluation = 32;
 
-// Accumulates the cell rows [j_begin, j_end) into `image` (N×N).
+// One cell of side h with lower-left corner (x, y) and corner images p00 (lower left), p10,
+// p01, p11: two triangles, each carrying the weight at its centroid times its area h²/2.
+void deposit_cell(double* image, int resolution, const Weight& weight, double x, double y, double h, Pixel p00,
+                  Pixel p10, Pixel p01, Pixel p11) {
+    const double half_area = 0.5 * h * h;
+    const double lower_mass = half_area * weight(x + h * (2.0 / 3.0), y + h / 3.0);
+    const double upper_mass = half_area * weight(x + h / 3.0, y + h * (2.0 / 3.0));
+    if (lower_mass > 0.0) deposit_triangle(image, resolution, p00, p10, p11, lower_mass);
+    if (upper_mass > 0.0) deposit_triangle(image, resolution, p00, p11, p01, upper_mass);
+}
+
+// Subdivisions of a base cell: settings.refinement, doubled while the cell centre's image
+// strays from the bilinear blend of the corner images by more than the tolerance (the stray
+// falls as the square of the subdivision).
+int subdivisions(const NormalDensitySettings& settings, Pixel p00, Pixel p10, Pixel p01, Pixel p11, Pixel centre) {
+    int n = settings.refinement;
+    if (settings.tolerance_pixels <= 0.0) return n;
+    const double stray = std::hypot(centre.u - 0.25 * (p00.u + p10.u + p01.u + p11.u),
+                                    centre.v - 0.25 * (p00.v + p10.v + p01.v + p11.v));
+    while (n < kMaxRefinement && stray > settings.tolerance_pixels * n * n) n *= 2;
+    return std::min(n, kMaxRefinement);
+}
+
+// Accumulates the base-cell rows [j_begin, j_end) into `image` (N×N).
 void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, const Weight& weight, int resolution,
-                     long long j_begin, long long j_end, double* image) {
+                     const NormalDensitySettings& settings, long long j_begin, long long j_end, double* image) {
     const long long corners_x = lattice.nx + 1;
     const double half_resolution = 0.5 * resolution;
-    const double half_cell_area = 0.5 * lattice.step * lattice.step;
-    std::vector<SurfacePoint> corners;
-    std::vector<Pixel> pixels;
+    const double h = lattice.step;
+    std::vector<SurfacePoint> corners, centres, sub;
+    std::vector<Pixel> pixels, centre_pixels, sub_pixels;
     for (long long j0 = j_begin; j0 < j_end; j0 += kRowsPerEvaluation) {
         const long long rows = std::min(kRowsPerEvaluation, j_end - j0);
         corners.resize(static_cast<std::size_t>(corners_x * (rows + 1)));
-        surface.evaluate_grid(lattice.x0, lattice.y0 + j0 * lattice.step, lattice.step, static_cast<int>(corners_x),
-                              static_cast<int>(rows + 1), corners.data());
+        centres.resize(static_cast<std::size_t>(lattice.nx * rows));
+        const double y_block = lattice.y0 + j0 * h;
+        surface.evaluate_grid(lattice.x0, y_block, h, static_cast<int>(corners_x), static_cast<int>(rows + 1),
+                              corners.data());
+        surface.evaluate_grid(lattice.x0 + 0.5 * h, y_block + 0.5 * h, h, static_cast<int>(lattice.nx),
+                              static_cast<int>(rows), centres.data());
         pixels.resize(corners.size());
+        centre_pixels.resize(centres.size());
         for (std::size_t k = 0; k < corners.size(); ++k) pixels[k] = normal_pixel(corners[k], half_resolution);
+        for (std::size_t k = 0; k < centres.size(); ++k) centre_pixels[k] = normal_pixel(centres[k], half_resolution);
         for (long long j = 0; j < rows; ++j) {
-            const double y = lattice.y0 + (j0 + j) * lattice.step;
+            const double y = y_block + j * h;
             const Pixel* lower = &pixels[static_cast<std::size_t>(j * corners_x)];
             const Pixel* upper = lower + corners_x;
             for (long long i = 0; i < lattice.nx; ++i) {
-                const double x = lattice.x0 + i * lattice.step;
-                // Two triangles per cell, each weighted at its centroid.
-                const double lower_mass = half_cell_area * weight(x + lattice.step * (2.0 / 3.0), y + lattice.step / 3.0);
-                const double upper_mass = half_cell_area * weight(x + lattice.step / 3.0, y + lattice.step * (2.0 / 3.0));
-                if (lower_mass > 0.0) deposit_triangle(image, resolution, lower[i], lower[i + 1], upper[i + 1], lower_mass);
-                if (upper_mass > 0.0) deposit_triangle(image, resolution, lower[i], upper[i + 1], upper[i], upper_mass);
+                const double x = lattice.x0 + i * h;
+                const int n = subdivisions(settings, lower[i], lower[i + 1], upper[i], upper[i + 1],
+                                           centre_pixels[static_cast<std::size_t>(j * lattice.nx + i)]);
+                if (n == 1) {
+                    deposit_cell(image, resolution, weight, x, y, h, lower[i], lower[i + 1], upper[i], upper[i + 1]);
+                    continue;
+                }
+                const double step = h / n;
+                sub.resize(static_cast<std::size_t>(n + 1) * (n + 1));
+                sub_pixels.resize(sub.size());
+                surface.evaluate_grid(x, y, step, n + 1, n + 1, sub.data());
+                for (std::size_t k = 0; k < sub.size(); ++k) sub_pixels[k] = normal_pixel(sub[k], half_resolution);
+                for (int b = 0; b < n; ++b)
+                    for (int a = 0; a < n; ++a) {
+                        const Pixel* row = &sub_pixels[static_cast<std::size_t>(b) * (n + 1)];
+                        deposit_cell(image, resolution, weight, x + a * step, y + b * step, step, row[a], row[a + 1],
+                                     row[a + n + 1], row[a + n + 2]);
+                    }
             }
         }
     }
@@ -260,12 +300,14 @@ std::vector<double> normal_density(const BicubicInterpolant& surface, const Foot
                                    const NormalDensitySettings& settings) {
     if (resolution < 1 || resolution > 8192)
         throw Error("NDF resolution must be between 1 and 8192, got " + std::to_string(resolution));
-    if (settings.refinement < 1 || settings.refinement > 64)
+    if (settings.refinement < 1 || settings.refinement > kMaxRefinement)
         throw Error("NDF refinement must be between 1 and 64, got " + std::to_string(settings.refinement));
     if (!(settings.intrinsic_roughness >= 0.0 && settings.intrinsic_roughness <= 1.0))
         throw Error("intrinsic_roughness must be between 0 and 1 radian, got " +
                     std::to_string(settings.intrinsic_roughness));
-    const Lattice lattice = lattice_for(surface, footprint, settings.refinement);
+    if (!(settings.tolerance_pixels >= 0.0))
+        throw Error("NDF tolerance must be a non-negative number of pixels, got " + std::to_string(settings.tolerance_pixels));
+    const Lattice lattice = lattice_for(surface, footprint);
     const Weight weight = weight_for(surface, footprint);
     const std::size_t pixels = static_cast<std::size_t>(resolution) * resolution;
     const long long stripes = std::min(kStripes, lattice.ny);
@@ -275,18 +317,24 @@ std::vector<double> normal_density(const BicubicInterpolant& surface, const Foot
             partial[s].assign(pixels, 0.0);
             const long long j_begin = lattice.ny * static_cast<long long>(s) / stripes;
             const long long j_end = lattice.ny * static_cast<long long>(s + 1) / stripes;
-            accumulate_rows(surface, lattice, weight, resolution, j_begin, j_end, partial[s].data());
+            accumulate_rows(surface, lattice, weight, resolution, settings, j_begin, j_end, partial[s].data());
         }
     });
     std::vector<double> density(pixels, 0.0);
-    const double inverse_pixel_area = 1.0 / disk_pixel_area(resolution);
     parallel_for(pixels, 4096, [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k) {
             double sum = 0.0;
             for (const auto& stripe : partial) sum += stripe[k];
-            density[k] = sum * inverse_pixel_area;
+            density[k] = sum;
         }
     });
+    // The deposited weights sum to 1 up to the truncation (1.5e-8) and the centroid rule's
+    // quadrature error where neighbouring cells are subdivided differently (~1e-5): one common
+    // factor makes the image a normalised density, Σ D·(2/N)² = 1.
+    double total = 0.0;
+    for (double mass : density) total += mass;
+    const double scale = total > 0.0 ? 1.0 / (total * disk_pixel_area(resolution)) : 0.0;
+    for (double& value : density) value *= scale;
     if (settings.intrinsic_roughness > 0.0) blur_normal_density(density, resolution, settings.intrinsic_roughness);
     return density;
 }

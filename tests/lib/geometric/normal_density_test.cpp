@@ -149,17 +149,21 @@ TEST(NormalDensity, IsNormalisedOnARoughSurface) {
 }
 
 TEST(NormalDensity, AgreesWithDenseSamplingOnTheIsotropicBuiltin) {
-    // Independent estimate: 8×8 gradient samples per texel over the whole tile, binned.
-    const Heightfield field = generate_builtin("isotropic");
-    const BicubicInterpolant surface(field);
-    const int n = 128, per_axis = 8;
-    const std::vector<double> exact = normal_density(surface, whole_field(), n, {});
+    // Independent estimate: 8×8 gradient samples per texel over a 384 µm box, binned.
+    const BicubicInterpolant surface(generate_builtin("isotropic"));
+    const int n = 128, per_axis = 8, side = 384;
+    Footprint box;
+    box.shape = FootprintShape::box;
+    box.centre_um = {300.0, 700.0};
+    box.size_um = side;
+    const std::vector<double> exact = normal_density(surface, box, n, {});
     std::vector<double> binned(exact.size(), 0.0);
-    const int samples = field.cols * per_axis;
+    const int samples = side * per_axis;
     std::vector<SurfacePoint> row(samples);
-    const double step = field.texel_um / per_axis;
-    for (int j = 0; j < field.rows * per_axis; ++j) {
-        surface.evaluate_grid(0.5 * step, (j + 0.5) * step, step, samples, 1, row.data());
+    const double step = 1.0 / per_axis;
+    const double x0 = box.centre_um.x - 0.5 * side, y0 = box.centre_um.y - 0.5 * side;
+    for (int j = 0; j < samples; ++j) {
+        surface.evaluate_grid(x0 + 0.5 * step, y0 + (j + 0.5) * step, step, samples, 1, row.data());
         for (const SurfacePoint& p : row) {
             const double norm = std::sqrt(1.0 + p.dh_dx * p.dh_dx + p.dh_dy * p.dh_dy);
             const int c = static_cast<int>(std::floor((1.0 - p.dh_dx / norm) * 0.5 * n));
@@ -193,23 +197,27 @@ TEST(NormalDensity, ErrorFallsAtLeastByHalfPerRefinementDoubling) {
     const BicubicInterpolant surface(isotropic_field(128));
     const Footprint footprint = gaussian_at({64.0, 64.0}, 10.0);
     const int n = 128;
-    const std::vector<double> reference = normal_density(surface, footprint, n, {16, 0.0});
+    const std::vector<double> reference = normal_density(surface, footprint, n, {16, 0.0, 0.0});
     double previous = 0.0;
     for (int refinement : {1, 2, 4}) {
-        const double error = relative_l2(normal_density(surface, footprint, n, {refinement, 0.0}), reference);
+        const double error = relative_l2(normal_density(surface, footprint, n, {refinement, 0.0, 0.0}), reference);
         RecordProperty("error_refinement_" + std::to_string(refinement), std::to_string(error));
         if (refinement > 1) {
             EXPECT_LT(error, 0.5 * previous) << "refinement " << refinement;
         }
         previous = error;
     }
+    // The adaptive default reaches the accuracy of a uniform refinement well beyond 4.
+    const double adaptive = relative_l2(normal_density(surface, footprint, n, {}), reference);
+    RecordProperty("error_adaptive_default", std::to_string(adaptive));
+    EXPECT_LT(adaptive, 0.01);
 }
 
 TEST(NormalDensity, IntrinsicRoughnessBlursAPlaneIntoAGaussianOfThatWidth) {
     const BicubicInterpolant surface(field_from(32, 32, 1.0, [](double, double) { return 0.0; }));
     const int n = 128;
     const double roughness = 0.05;
-    const std::vector<double> density = normal_density(surface, whole_field(), n, {2, roughness});
+    const std::vector<double> density = normal_density(surface, whole_field(), n, {1, 0.05, roughness});
     double mass = 0.0, second = 0.0;
     for (int r = 0; r < n; ++r)
         for (int c = 0; c < n; ++c) {

@@ -11,8 +11,8 @@
 // the shared bicubic over the smoothed samples and accumulates its normals exactly with
 // geometric/normal_density.hpp. σ_f = 0 leaves the samples untouched and returns the P-NDF.
 //
-// Method options: filter_sigma (length, default 1 µm), and intrinsic_roughness and refinement
-// as for pndf. Metadata: "filtered.filter_sigma_um", "filtered.refinement",
+// Method options: filter_sigma (length, default 1 µm), and intrinsic_roughness, refinement and
+// tolerance as for pndf. Metadata: "filtered.filter_sigma_um", "filtered.refinement",
 // "filtered.intrinsic_roughness_rad".
 #include "glintscope/lobe.hpp"
 

@@ -13,7 +13,7 @@
 // image as Σ D ⟨ω·m⟩⁺ / m_z (2/M)², G1 clamped to ≤ 1.
 //
 // Method options: ndf = pndf | filtered (default pndf), shadowing = none | smith,
-// ndf_oversampling (1–4, default 2), filter_sigma (filtered only), intrinsic_roughness, refinement.
+// ndf_oversampling (1–4, default 2), filter_sigma (filtered only), intrinsic_roughness, refinement, tolerance.
 // Metadata: "geometric.ndf", "geometric.shadowing", "geometric.ndf_resolution", "geometric.refinement".
 #include "glintscope/lobe.hpp"
 

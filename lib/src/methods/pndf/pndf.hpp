@@ -5,9 +5,11 @@
 //
 // Method options (LobeQuery::method_options):
 //   intrinsic_roughness  radians (default 0): Gaussian blur of that angular width (Yan 2014).
-//   refinement           cells per texel along each axis (default 2); the error falls as its square.
+//   refinement           least cells per texel along each axis (default 1).
+//   tolerance            pixels (default 0.02): cells are halved until their image is that close
+//                        to affine (normal_density.hpp); 0 keeps exactly `refinement`.
 // The image holds D (not f_r), one identical layer per query wavelength; Σ D·(2/N)² = 1.
-// The metadata records "pndf.refinement", "pndf.intrinsic_roughness_rad", "pndf.weight_sigma_um".
+// The metadata records "pndf.refinement", "pndf.tolerance_pixels", "pndf.intrinsic_roughness_rad", "pndf.weight_sigma_um".
 #include "glintscope/lobe.hpp"
 #include "geometric/normal_density.hpp"
 
