@@ -24,7 +24,7 @@ std::string format_number(double value) {
 struct GeometricSettings {
     bool filtered = false;
     bool smith = false;
-    int ndf_oversampling = 2;
+    int ndf_oversampling = 4;
     double filter_sigma_um = 1.0;
     NormalDensitySettings density;
 };

@@ -13,7 +13,9 @@
 // image as Σ D ⟨ω·m⟩⁺ / m_z (2/M)², G1 clamped to ≤ 1.
 //
 // Method options: ndf = pndf | filtered (default pndf), shadowing = none | smith,
-// ndf_oversampling (1–4, default 2), filter_sigma (filtered only), intrinsic_roughness, refinement, tolerance.
+// ndf_oversampling (1–4, default 4: near normal incidence a lobe pixel spans
+// 1/N in h, an NDF pixel 2/M, and bilinear reading blurs by about one NDF pixel; at the default
+// the blur is a quarter of a lobe pixel), filter_sigma (filtered only), intrinsic_roughness, refinement, tolerance.
 // Metadata: "geometric.ndf", "geometric.shadowing", "geometric.ndf_resolution", "geometric.refinement".
 #include "glintscope/lobe.hpp"
 

@@ -1,0 +1,166 @@
+// The geometric lobe against closed forms (a mirror's albedo is F, a tilted plane reflects into
+// its mirror direction), reciprocity, energy on a smooth rough surface, Smith shadowing taking
+// energy away, thread independence, and the geometric limit of the FFT Kirchhoff lobe.
+#include "methods/geometric/geometric_lobe.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "glintscope/fft_lobe.hpp"
+#include "glintscope/generate.hpp"
+#include "glintscope/material.hpp"
+#include "glintscope/parallel.hpp"
+
+namespace glintscope {
+namespace {
+
+Heightfield plane(double a, double b) {
+    Heightfield field = make_heightfield(64, 64, 1.0);
+    for (int r = 0; r < 64; ++r)
+        for (int c = 0; c < 64; ++c) {
+            const Point2 s = sample_position(field, r, c);
+            field.at(r, c) = static_cast<float>(a * s.x + b * s.y);
+        }
+    return field;
+}
+
+// A Gaussian random field (Stam's smooth C1) with rms slope 0.1 per axis and T = 10 µm.
+Heightfield smooth_rough(int size) {
+    Recipe recipe = default_recipe("gaussian");
+    recipe.grid = {size, size, 1.0};
+    recipe.gaussian.correlation = CorrelationFunction::c1;
+    recipe.gaussian.correlation_length_x_um = recipe.gaussian.correlation_length_y_um = 10.0;
+    recipe.gaussian.sigma_h_um = 0.1 * 10.0 / std::numbers::sqrt2;
+    return generate(recipe);
+}
+
+LobeQuery query_for(Heightfield field, int resolution) {
+    LobeQuery query;
+    query.footprint.centre_um = field.centre_um();
+    query.resolution = resolution;
+    set_heightfield(query, std::move(field));
+    return query;
+}
+
+double albedo(const LobeImage& image, std::size_t layer = 0) {
+    double sum = 0.0;
+    const std::size_t size = static_cast<std::size_t>(image.resolution) * image.resolution;
+    for (std::size_t k = 0; k < size; ++k) sum += image.values[layer * size + k];
+    return sum * disk_pixel_area(image.resolution);
+}
+
+TEST(GeometricLobe, FlatMirrorReflectsTheFresnelFraction) {
+    LobeQuery query = query_for(plane(0.0, 0.0), 128);
+    query.omega_i = direction_from_spherical(0.5, 0.3);
+    query.material.name = "Au";
+    query.wavelengths_um = {0.45, 0.65};
+    query.supersample = 8;
+    const LobeImage image = geometric_lobe(query);
+    for (std::size_t l = 0; l < 2; ++l) {
+        const double fresnel = fresnel_reflectance("Au", query.wavelengths_um[l], query.omega_i.z);
+        EXPECT_NEAR(albedo(image, l) / fresnel, 1.0, 0.01) << "layer " << l;
+    }
+}
+
+TEST(GeometricLobe, TiltedPlanePeaksAtTheMirrorDirectionOfItsNormal) {
+    const double a = 0.2, b = 0.1;
+    LobeQuery query = query_for(plane(a, b), 128);
+    query.footprint.sigma_um = 4.0;  // inside the tile, away from the plane's wrap-around step
+    const LobeImage image = geometric_lobe(query);
+    int best = 0;
+    for (int k = 1; k < 128 * 128; ++k)
+        if (image.values[k] > image.values[best]) best = k;
+    const Vec3 m = normalize({-a, -b, 1.0});
+    const Vec3 mirror = 2.0 * dot(query.omega_i, m) * m - query.omega_i;
+    const DiskPoint peak = disk_pixel_point(best / 128, best % 128, 128);
+    EXPECT_LT(std::abs(peak.x - mirror.x), 2.0 / 128);
+    EXPECT_LT(std::abs(peak.y - mirror.y), 2.0 / 128);
+}
+
+TEST(GeometricLobe, IsReciprocalWithoutShadowing) {
+    LobeQuery query = query_for(smooth_rough(128), 64);
+    const Vec3 a = [] { const DiskPoint p = disk_pixel_point(20, 40, 64); return direction_from_disk(p.x, p.y); }();
+    const Vec3 b = [] { const DiskPoint p = disk_pixel_point(35, 22, 64); return direction_from_disk(p.x, p.y); }();
+    query.omega_i = a;
+    const float forward = geometric_lobe(query).at(0, 35, 22);
+    query.omega_i = b;
+    const float backward = geometric_lobe(query).at(0, 20, 40);
+    EXPECT_GT(forward, 0.0f);
+    EXPECT_NEAR(forward / backward, 1.0, 1e-6);
+}
+
+TEST(GeometricLobe, SmoothRoughSurfaceReflectsAlmostAllLightAtNormalIncidence) {
+    // With G = 1 and F = 1, ∫ f_r cosθ_o dω_o = ∫ D(h)(ω_i·h) dω_h / cosθ_i over the h whose ω_o is
+    // above the horizon: 1 at normal incidence for normals within 45° (rms slope 0.1 here).
+    LobeQuery query = query_for(smooth_rough(128), 128);
+    query.footprint.shape = FootprintShape::whole;
+    query.supersample = 2;
+    const double plain = albedo(geometric_lobe(query));
+    EXPECT_NEAR(plain, 1.0, 0.01);
+    query.method_options["shadowing"] = "smith";
+    const double shadowed = albedo(geometric_lobe(query));
+    EXPECT_LT(shadowed, plain);
+    EXPECT_GT(shadowed, 0.97 * plain);
+}
+
+TEST(GeometricLobe, SameBitsForOneAndFourThreads) {
+    LobeQuery query = query_for(smooth_rough(128), 64);
+    query.omega_i = direction_from_spherical(0.4, 1.0);
+    query.supersample = 2;
+    query.method_options["shadowing"] = "smith";
+    set_thread_count(1);
+    const LobeImage one = geometric_lobe(query);
+    set_thread_count(4);
+    const LobeImage four = geometric_lobe(query);
+    set_thread_count(0);
+    EXPECT_EQ(one.values, four.values);
+}
+
+// Both images blurred by a Gaussian of one pixel (separable, truncated at 4 px, zero outside).
+std::vector<double> blurred(const LobeImage& image) {
+    const int n = image.resolution;
+    std::vector<double> taps(9);
+    for (int k = -4; k <= 4; ++k) taps[k + 4] = std::exp(-0.5 * k * k);
+    std::vector<double> pass(n * n, 0.0), out(n * n, 0.0);
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+            for (int k = -4; k <= 4; ++k)
+                if (c + k >= 0 && c + k < n) pass[r * n + c] += taps[k + 4] * image.at(0, r, c + k);
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+            for (int k = -4; k <= 4; ++k)
+                if (r + k >= 0 && r + k < n) out[r * n + c] += taps[k + 4] * pass[(r + k) * n + c];
+    return out;
+}
+
+TEST(GeometricLobe, KirchhoffFftLobeApproachesItAsTheWavelengthShrinks) {
+    LobeQuery query = query_for(smooth_rough(256), 128);
+    query.model = DiffractionModel::kirchhoff;
+    query.supersample = 4;
+    const std::vector<double> geometric = blurred(geometric_lobe(query));
+    double previous = 1e9;
+    for (double lambda : {0.5, 0.25, 0.1}) {
+        query.wavelengths_um = {lambda};
+        const std::vector<double> wave = blurred(fft_lobe(query));
+        double difference = 0.0, norm = 0.0;
+        for (int r = 0; r < 128; ++r)
+            for (int c = 0; c < 128; ++c) {
+                const DiskPoint p = disk_pixel_point(r, c, 128);
+                const double psi_x = query.omega_i.x + p.x, psi_y = query.omega_i.y + p.y;
+                if (psi_x * psi_x + psi_y * psi_y > 0.64) continue;
+                const double g = geometric[r * 128 + c], w = wave[r * 128 + c];
+                difference += (w - g) * (w - g);
+                norm += g * g;
+            }
+        const double error = std::sqrt(difference / norm);
+        RecordProperty("relative_l2_at_" + std::to_string(lambda), std::to_string(error));
+        EXPECT_LT(error, previous) << "lambda " << lambda;
+        previous = error;
+    }
+    EXPECT_LT(previous, 0.05);
+}
+
+}  // namespace
+}  // namespace glintscope
