@@ -93,40 +93,59 @@ struct Pixel {
     double v = 0.0;
 };
 
-struct Polygon {
-    std::array<Pixel, 12> points;  // a triangle clipped by four half-planes has at most 7
-    int count = 0;
-};
-
-// The part of `in` where side·(coordinate − bound) ≥ 0 (Sutherland–Hodgman, one edge).
-Polygon clip(const Polygon& in, bool along_u, double bound, double side) {
-    Polygon out;
-    for (int k = 0; k < in.count; ++k) {
-        const Pixel a = in.points[k];
-        const Pixel b = in.points[(k + 1) % in.count];
-        const double da = side * ((along_u ? a.u : a.v) - bound);
-        const double db = side * ((along_u ? b.u : b.v) - bound);
-        if (da >= 0.0) out.points[out.count++] = a;
-        if ((da >= 0.0) != (db >= 0.0)) {
-            const double t = da / (da - db);
-            out.points[out.count++] = {a.u + t * (b.u - a.u), a.v + t * (b.v - a.v)};
-        }
-    }
-    return out;
-}
-
-double area(const Polygon& polygon) {
-    double twice = 0.0;
-    for (int k = 0; k < polygon.count; ++k) {
-        const Pixel a = polygon.points[k];
-        const Pixel b = polygon.points[(k + 1) % polygon.count];
-        twice += a.u * b.v - b.u * a.v;
-    }
-    return 0.5 * std::abs(twice);
-}
-
 int clamp_index(double coordinate, int resolution) {
     return std::clamp(static_cast<int>(std::floor(coordinate)), 0, resolution - 1);
+}
+
+// Pixel masses kept as differences along each row (N + 1 entries a row): a mass m in pixel c
+// is +m at c and −m at c + 1, and a running sum along the row (resolve) turns them back into
+// masses. This lets a polygon deposit its exact coverage through its edges alone: an edge adds
+// the signed area between itself and the right end of the row, which the running sum spreads.
+struct RowDifferences {
+    int resolution = 0;
+    double* data = nullptr;  // resolution rows × (resolution + 1)
+
+    void add(int row, int col, double mass) const {
+        double* at = data + static_cast<std::size_t>(row) * (resolution + 1) + col;
+        at[0] += mass;
+        at[1] -= mass;
+    }
+    void add_right_of(int row, int col, double fraction_right, double signed_height) const {
+        double* at = data + static_cast<std::size_t>(row) * (resolution + 1) + col;
+        at[0] += signed_height * fraction_right;
+        at[1] += signed_height * (1.0 - fraction_right);
+    }
+};
+
+// The directed edge a → b, weighted by `density`: in every pixel row it crosses, the area of
+// each pixel right of the edge, signed by the edge's direction in v. Summed over a closed
+// polygon's edges this is ± the polygon's exact overlap with each pixel (the signed-area
+// coverage of scanline rasterisers).
+void add_edge(const RowDifferences& rows, Pixel a, Pixel b, double density) {
+    if (a.v == b.v) return;
+    const int n = rows.resolution;
+    const double v_low = std::min(a.v, b.v), v_high = std::max(a.v, b.v);
+    const double direction = b.v > a.v ? density : -density;
+    const double du_dv = (b.u - a.u) / (b.v - a.v);
+    for (int row = clamp_index(v_low, n); row <= clamp_index(v_high, n); ++row) {
+        const double v0 = std::max(v_low, double(row)), v1 = std::min(v_high, row + 1.0);
+        if (v1 <= v0) continue;
+        const double u0 = a.u + (v0 - a.v) * du_dv, u1 = a.u + (v1 - a.v) * du_dv;
+        const double left = std::min(u0, u1), right = std::max(u0, u1);
+        const double height = direction * (v1 - v0);
+        const int first = clamp_index(left, n), last = clamp_index(right, n);
+        if (first == last) {
+            rows.add_right_of(row, first, first + 1.0 - 0.5 * (left + right), height);
+            continue;
+        }
+        // Split at the column edges; each piece's height is its share of the u extent.
+        for (int col = first; col <= last; ++col) {
+            const double piece_left = std::max(left, double(col)), piece_right = std::min(right, col + 1.0);
+            if (piece_right <= piece_left) continue;
+            rows.add_right_of(row, col, col + 1.0 - 0.5 * (piece_left + piece_right),
+                              height * (piece_right - piece_left) / (right - left));
+        }
+    }
 }
 
 // A triangle whose image collapsed onto a line (a surface that is cylindrical there, like a
@@ -134,7 +153,8 @@ int clamp_index(double coordinate, int resolution) {
 // density of its 1-D marginal, rising from the first to the middle corner and falling to the
 // last, with cumulative mass (t − t0)²/((t2 − t0)(t1 − t0)) up to t1 and 1 − (t2 − t)²/((t2 −
 // t0)(t2 − t1)) beyond. Each stretch between pixel-edge crossings gets its exact share.
-void deposit_segment(double* image, int resolution, Pixel a, Pixel b, Pixel c, double mass) {
+void deposit_segment(const RowDifferences& rows, Pixel a, Pixel b, Pixel c, double mass) {
+    const int n = rows.resolution;
     // Parametrise the line by the coordinate along which it spreads most.
     const bool along_u = std::max({a.u, b.u, c.u}) - std::min({a.u, b.u, c.u}) >=
                          std::max({a.v, b.v, c.v}) - std::min({a.v, b.v, c.v});
@@ -145,7 +165,7 @@ void deposit_segment(double* image, int resolution, Pixel a, Pixel b, Pixel c, d
     const Pixel last = corners[2];
     const double span = along_u ? last.u - first.u : last.v - first.v;
     if (!(span > 0.0)) {
-        image[static_cast<std::size_t>(clamp_index(first.v, resolution)) * resolution + clamp_index(first.u, resolution)] += mass;
+        rows.add(clamp_index(first.v, n), clamp_index(first.u, n), mass);
         return;
     }
     const double t1 = ((along_u ? corners[1].u : corners[1].v) - (along_u ? first.u : first.v)) / span;
@@ -167,42 +187,34 @@ void deposit_segment(double* image, int resolution, Pixel a, Pixel b, Pixel c, d
         const double share = cumulative(cuts[k + 1]) - cumulative(cuts[k]);
         if (share <= 0.0) continue;
         const double middle = 0.5 * (cuts[k] + cuts[k + 1]);
-        const int row = clamp_index(first.v + middle * dv, resolution);
-        image[static_cast<std::size_t>(row) * resolution + clamp_index(first.u + middle * du, resolution)] += mass * share;
+        rows.add(clamp_index(first.v + middle * dv, n), clamp_index(first.u + middle * du, n), mass * share);
     }
 }
 
 // Spreads `mass` uniformly over the triangle abc: each pixel gets mass × (its overlap area /
-// the triangle's area), the overlap found by clipping the triangle to the pixel's row, then column.
-void deposit_triangle(double* image, int resolution, Pixel a, Pixel b, Pixel c, double mass) {
-    const int c0 = clamp_index(std::min({a.u, b.u, c.u}), resolution);
-    const int c1 = clamp_index(std::max({a.u, b.u, c.u}), resolution);
-    const int r0 = clamp_index(std::min({a.v, b.v, c.v}), resolution);
-    const int r1 = clamp_index(std::max({a.v, b.v, c.v}), resolution);
+// the triangle's area), through the triangle's three edges (add_edge).
+void deposit_triangle(const RowDifferences& rows, Pixel a, Pixel b, Pixel c, double mass) {
+    const int n = rows.resolution;
+    const int c0 = clamp_index(std::min({a.u, b.u, c.u}), n);
+    const int c1 = clamp_index(std::max({a.u, b.u, c.u}), n);
+    const int r0 = clamp_index(std::min({a.v, b.v, c.v}), n);
+    const int r1 = clamp_index(std::max({a.v, b.v, c.v}), n);
     if (c0 == c1 && r0 == r1) {
-        image[static_cast<std::size_t>(r0) * resolution + c0] += mass;
+        rows.add(r0, c0, mass);
         return;
     }
-    Polygon triangle;
-    triangle.points[0] = a;
-    triangle.points[1] = b;
-    triangle.points[2] = c;
-    triangle.count = 3;
-    const double total = area(triangle);
+    const double cross = (b.u - a.u) * (c.v - a.v) - (c.u - a.u) * (b.v - a.v);
     const double extent = std::max(c1 - c0, r1 - r0) + 1.0;
-    if (total < 1e-9 * extent * extent) {
-        deposit_segment(image, resolution, a, b, c, mass);
+    if (std::abs(cross) < 2e-9 * extent * extent) {
+        deposit_segment(rows, a, b, c, mass);
         return;
     }
-    const double density = mass / total;
-    for (int row = r0; row <= r1; ++row) {
-        const Polygon strip = clip(clip(triangle, false, row, 1.0), false, row + 1.0, -1.0);
-        if (strip.count < 3) continue;
-        for (int col = c0; col <= c1; ++col) {
-            const Polygon piece = clip(clip(strip, true, col, 1.0), true, col + 1.0, -1.0);
-            if (piece.count >= 3) image[static_cast<std::size_t>(row) * resolution + col] += density * area(piece);
-        }
-    }
+    // Edges taken counter-clockwise in (u, v) (cross > 0) give −coverage: orient the density so
+    // that every triangle, folded or not, adds positive mass.
+    const double density = -2.0 * mass / cross;
+    add_edge(rows, a, b, density);
+    add_edge(rows, b, c, density);
+    add_edge(rows, c, a, density);
 }
 
 // Where the normal of gradient (H_x, H_y) lands in pixel units: m = (−H_x, −H_y, 1)/|…| at disk
@@ -216,13 +228,13 @@ constexpr long long kRowsPerEvaluation = 32;
 
 // One cell of side h with lower-left corner (x, y) and corner images p00 (lower left), p10,
 // p01, p11: two triangles, each carrying the weight at its centroid times its area h²/2.
-void deposit_cell(double* image, int resolution, const Weight& weight, double x, double y, double h, Pixel p00,
+void deposit_cell(const RowDifferences& rows, const Weight& weight, double x, double y, double h, Pixel p00,
                   Pixel p10, Pixel p01, Pixel p11) {
     const double half_area = 0.5 * h * h;
     const double lower_mass = half_area * weight(x + h * (2.0 / 3.0), y + h / 3.0);
     const double upper_mass = half_area * weight(x + h / 3.0, y + h * (2.0 / 3.0));
-    if (lower_mass > 0.0) deposit_triangle(image, resolution, p00, p10, p11, lower_mass);
-    if (upper_mass > 0.0) deposit_triangle(image, resolution, p00, p11, p01, upper_mass);
+    if (lower_mass > 0.0) deposit_triangle(rows, p00, p10, p11, lower_mass);
+    if (upper_mass > 0.0) deposit_triangle(rows, p00, p11, p01, upper_mass);
 }
 
 // Subdivisions of a base cell: settings.refinement, doubled while the cell centre's image
@@ -237,28 +249,29 @@ int subdivisions(const NormalDensitySettings& settings, Pixel p00, Pixel p10, Pi
     return std::min(n, kMaxRefinement);
 }
 
-// Accumulates the base-cell rows [j_begin, j_end) into `image` (N×N).
-void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, const Weight& weight, int resolution,
-                     const NormalDensitySettings& settings, long long j_begin, long long j_end, double* image) {
+// Accumulates the base-cell rows [j_begin, j_end) into `rows`.
+void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, const Weight& weight,
+                     const NormalDensitySettings& settings, long long j_begin, long long j_end, const RowDifferences& rows) {
+    const int resolution = rows.resolution;
     const long long corners_x = lattice.nx + 1;
     const double half_resolution = 0.5 * resolution;
     const double h = lattice.step;
     std::vector<SurfacePoint> corners, centres, sub;
     std::vector<Pixel> pixels, centre_pixels, sub_pixels;
     for (long long j0 = j_begin; j0 < j_end; j0 += kRowsPerEvaluation) {
-        const long long rows = std::min(kRowsPerEvaluation, j_end - j0);
-        corners.resize(static_cast<std::size_t>(corners_x * (rows + 1)));
-        centres.resize(static_cast<std::size_t>(lattice.nx * rows));
+        const long long block_rows = std::min(kRowsPerEvaluation, j_end - j0);
+        corners.resize(static_cast<std::size_t>(corners_x * (block_rows + 1)));
+        centres.resize(static_cast<std::size_t>(lattice.nx * block_rows));
         const double y_block = lattice.y0 + j0 * h;
-        surface.evaluate_grid(lattice.x0, y_block, h, static_cast<int>(corners_x), static_cast<int>(rows + 1),
+        surface.evaluate_grid(lattice.x0, y_block, h, static_cast<int>(corners_x), static_cast<int>(block_rows + 1),
                               corners.data());
         surface.evaluate_grid(lattice.x0 + 0.5 * h, y_block + 0.5 * h, h, static_cast<int>(lattice.nx),
-                              static_cast<int>(rows), centres.data());
+                              static_cast<int>(block_rows), centres.data());
         pixels.resize(corners.size());
         centre_pixels.resize(centres.size());
         for (std::size_t k = 0; k < corners.size(); ++k) pixels[k] = normal_pixel(corners[k], half_resolution);
         for (std::size_t k = 0; k < centres.size(); ++k) centre_pixels[k] = normal_pixel(centres[k], half_resolution);
-        for (long long j = 0; j < rows; ++j) {
+        for (long long j = 0; j < block_rows; ++j) {
             const double y = y_block + j * h;
             const Pixel* lower = &pixels[static_cast<std::size_t>(j * corners_x)];
             const Pixel* upper = lower + corners_x;
@@ -267,7 +280,7 @@ void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, 
                 const int n = subdivisions(settings, lower[i], lower[i + 1], upper[i], upper[i + 1],
                                            centre_pixels[static_cast<std::size_t>(j * lattice.nx + i)]);
                 if (n == 1) {
-                    deposit_cell(image, resolution, weight, x, y, h, lower[i], lower[i + 1], upper[i], upper[i + 1]);
+                    deposit_cell(rows, weight, x, y, h, lower[i], lower[i + 1], upper[i], upper[i + 1]);
                     continue;
                 }
                 const double step = h / n;
@@ -278,7 +291,7 @@ void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, 
                 for (int b = 0; b < n; ++b)
                     for (int a = 0; a < n; ++a) {
                         const Pixel* row = &sub_pixels[static_cast<std::size_t>(b) * (n + 1)];
-                        deposit_cell(image, resolution, weight, x + a * step, y + b * step, step, row[a], row[a + 1],
+                        deposit_cell(rows, weight, x + a * step, y + b * step, step, row[a], row[a + 1],
                                      row[a + n + 1], row[a + n + 2]);
                     }
             }
@@ -310,22 +323,27 @@ std::vector<double> normal_density(const BicubicInterpolant& surface, const Foot
     const Lattice lattice = lattice_for(surface, footprint);
     const Weight weight = weight_for(surface, footprint);
     const std::size_t pixels = static_cast<std::size_t>(resolution) * resolution;
+    const std::size_t stride = static_cast<std::size_t>(resolution) + 1;
     const long long stripes = std::min(kStripes, lattice.ny);
     std::vector<std::vector<double>> partial(static_cast<std::size_t>(stripes));
     parallel_for(static_cast<std::size_t>(stripes), 1, [&](std::size_t begin, std::size_t end) {
         for (std::size_t s = begin; s < end; ++s) {
-            partial[s].assign(pixels, 0.0);
+            partial[s].assign(resolution * stride, 0.0);
             const long long j_begin = lattice.ny * static_cast<long long>(s) / stripes;
             const long long j_end = lattice.ny * static_cast<long long>(s + 1) / stripes;
-            accumulate_rows(surface, lattice, weight, resolution, settings, j_begin, j_end, partial[s].data());
+            accumulate_rows(surface, lattice, weight, settings, j_begin, j_end, {resolution, partial[s].data()});
         }
     });
+    // Stripes summed in order, then each row's running sum; rounding leaves ~1e-16 of the row's
+    // masses where the true value is 0, and negative such residues are clipped.
     std::vector<double> density(pixels, 0.0);
-    parallel_for(pixels, 4096, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t k = begin; k < end; ++k) {
-            double sum = 0.0;
-            for (const auto& stripe : partial) sum += stripe[k];
-            density[k] = sum;
+    parallel_for(static_cast<std::size_t>(resolution), 16, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r) {
+            double running = 0.0;
+            for (std::size_t c = 0; c < static_cast<std::size_t>(resolution); ++c) {
+                for (const auto& stripe : partial) running += stripe[r * stride + c];
+                density[r * resolution + c] = std::max(0.0, running);
+            }
         }
     });
     // The deposited weights sum to 1 up to the truncation (1.5e-8) and the centroid rule's

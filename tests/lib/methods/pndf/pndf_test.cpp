@@ -40,7 +40,7 @@ TEST(Pndf, EveryWavelengthLayerIsTheNormalisedNormalDensity) {
 
 TEST(Pndf, RejectsUnknownAndOutOfRangeOptions) {
     LobeQuery query = isotropic_query(32);
-    query.method_options["refinement"] = "0";
+    query.method_options = {{"refinement", "0"}};
     EXPECT_THROW(pndf(query), Error);
     query.method_options = {{"step", "1"}};
     EXPECT_THROW(pndf(query), Error);
