@@ -54,7 +54,8 @@ GeometricSettings read_settings(const LobeQuery& query) {
     return settings;
 }
 
-// The NDF image at M = oversampling·N, read bilinearly between pixel centres.
+// An image over the projected disk (the NDF at M = oversampling·N, or Smith's G1 over
+// directions), read bilinearly between pixel centres, 0 beyond the image.
 struct DensityTable {
     int resolution = 0;
     std::vector<double> values;
@@ -92,11 +93,7 @@ DensityTable density_table(const LobeQuery& query, const GeometricSettings& sett
 constexpr int kSmithDirections = 64;
 constexpr int kSmithNormals = 128;
 
-struct SmithTable {
-    DensityTable g1;
-};
-
-SmithTable smith_table(const DensityTable& density) {
+DensityTable smith_table(const DensityTable& density) {
     // The NDF summed down to at most kSmithNormals² pixels (masses add, so Σ D dA is kept).
     const int factor = std::max(1, density.resolution / kSmithNormals);
     const int coarse = density.resolution / factor;
@@ -105,9 +102,9 @@ SmithTable smith_table(const DensityTable& density) {
     for (int r = 0; r < coarse * factor; ++r)
         for (int c = 0; c < coarse * factor; ++c)
             mass[static_cast<std::size_t>(r / factor) * coarse + c / factor] += density.pixel(r, c) * fine_area;
-    SmithTable table;
-    table.g1.resolution = kSmithDirections;
-    table.g1.values.assign(kSmithDirections * kSmithDirections, 1.0);
+    DensityTable g1;
+    g1.resolution = kSmithDirections;
+    g1.values.assign(kSmithDirections * kSmithDirections, 1.0);
     parallel_for(kSmithDirections, 4, [&](std::size_t begin, std::size_t end) {
         for (std::size_t r = begin; r < end; ++r)
             for (int c = 0; c < kSmithDirections; ++c) {
@@ -125,10 +122,10 @@ SmithTable smith_table(const DensityTable& density) {
                         const Vec3 m = direction_from_disk(q.x, q.y);
                         projected += w * std::max(0.0, dot(omega, m)) / m.z;
                     }
-                table.g1.values[r * kSmithDirections + c] = projected > 0.0 ? std::min(1.0, omega.z / projected) : 0.0;
+                g1.values[r * kSmithDirections + c] = projected > 0.0 ? std::min(1.0, omega.z / projected) : 0.0;
             }
     });
-    return table;
+    return g1;
 }
 
 double subpixel_offset(int a, int supersample) { return (a + 0.5) / supersample - 0.5; }
@@ -139,11 +136,11 @@ LobeImage geometric_lobe(const LobeQuery& query) {
     if (!query.surface || !query.field) throw Error("geometric: the query has no heightfield");
     const GeometricSettings settings = read_settings(query);
     const DensityTable density = density_table(query, settings);
-    const SmithTable smith = settings.smith ? smith_table(density) : SmithTable{};
+    const DensityTable smith_g1 = settings.smith ? smith_table(density) : DensityTable{};
     const int n = query.resolution;
     const int k = std::max(1, query.supersample);
     const Vec3 omega_i = query.omega_i;
-    const double g1_i = settings.smith ? smith.g1.at(omega_i.x, omega_i.y) : 1.0;
+    const double g1_i = settings.smith ? smith_g1.at(omega_i.x, omega_i.y) : 1.0;
     LobeImage image = make_lobe_image(n, query.wavelengths_um);
     const std::size_t layer_size = static_cast<std::size_t>(n) * n;
     for (std::size_t l = 0; l < query.wavelengths_um.size(); ++l) {
@@ -163,7 +160,7 @@ LobeImage geometric_lobe(const LobeQuery& query) {
                             const Vec3 h = normalize(omega_i + omega_o);
                             const double cos_d = dot(omega_i, h);
                             const double fresnel = has_material ? fresnel_conductor(eta, cos_d) : 1.0;
-                            const double shadowing = settings.smith ? g1_i * smith.g1.at(p.x, p.y) : 1.0;
+                            const double shadowing = settings.smith ? g1_i * smith_g1.at(p.x, p.y) : 1.0;
                             // Dong 2015 eq. 1
                             sum += fresnel * density.at(h.x, h.y) * shadowing / (4.0 * omega_i.z * omega_o.z);
                         }
