@@ -59,6 +59,7 @@ GeometricSettings read_settings(const LobeQuery& query) {
 struct DensityTable {
     int resolution = 0;
     std::vector<double> values;
+    bool extend_edges = false;  // read beyond the image as its nearest edge pixel (G1), else as 0 (D)
 
     double at(double x, double y) const {
         const double u = (x + 1.0) * 0.5 * resolution - 0.5;
@@ -71,6 +72,10 @@ struct DensityTable {
                fv * ((1.0 - fu) * pixel(r + 1, c) + fu * pixel(r + 1, c + 1));
     }
     double pixel(int r, int c) const {
+        if (extend_edges) {
+            r = std::clamp(r, 0, resolution - 1);
+            c = std::clamp(c, 0, resolution - 1);
+        }
         if (r < 0 || c < 0 || r >= resolution || c >= resolution) return 0.0;
         return values[static_cast<std::size_t>(r) * resolution + c];
     }
@@ -104,6 +109,7 @@ DensityTable smith_table(const DensityTable& density) {
             mass[static_cast<std::size_t>(r / factor) * coarse + c / factor] += density.pixel(r, c) * fine_area;
     DensityTable g1;
     g1.resolution = kSmithDirections;
+    g1.extend_edges = true;
     g1.values.assign(kSmithDirections * kSmithDirections, 1.0);
     parallel_for(kSmithDirections, 4, [&](std::size_t begin, std::size_t end) {
         for (std::size_t r = begin; r < end; ++r)
