@@ -13,6 +13,7 @@ void add_info_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
 void add_preview_command(CLI::App& app);
 void add_lobe_command(CLI::App& app);
+void add_ndf_command(CLI::App& app);
 void add_validate_command(CLI::App& app);
 void add_batch_command(CLI::App& app);
 

@@ -120,7 +120,9 @@ QueryText query_text_of(const ImageCommandSettings& settings, const std::string&
 
 void print_summary(const LobeImage& image, const std::string& method, const LobeQuery& query) {
     const QuantityLabels& label = labels(image.quantity);
-    const std::string who = method + (image.quantity == Quantity::brdf ? " " + to_string(query.model) : "");
+    const std::vector<QueryField>& ignored = lobe_method(method).ignored;
+    const bool uses_model = std::find(ignored.begin(), ignored.end(), QueryField::model) == ignored.end();
+    const std::string who = method + (uses_model ? " " + to_string(query.model) : "");
     for (const WavelengthSummary& summary : summarize_lobe(image)) {
         const std::string at = image.quantity == Quantity::brdf ? "lambda " + shortest_text(summary.wavelength_um) + " um: " : "";
         std::printf("%s, %speak %s = %.6g%s at %s = (%.4f, %.4f), %s %.6g\n", who.c_str(), at.c_str(),

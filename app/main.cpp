@@ -91,6 +91,7 @@ int main(int argc, char** argv) {
     glintscope::cli::add_convert_command(app);
     glintscope::cli::add_preview_command(app);
     glintscope::cli::add_lobe_command(app);
+    glintscope::cli::add_ndf_command(app);
     glintscope::cli::add_validate_command(app);
     glintscope::cli::add_batch_command(app);
 

@@ -6,9 +6,11 @@
 //   ndf   pixel = h (a normal), value D(h);            Σ D (2/N)² = 1 (∫ D (h·n) dω_h = 1)
 // Colour, output and comparison code depend on this header only, not on queries or surfaces.
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "glintscope/geometry.hpp"
 #include "glintscope/metadata.hpp"
 
 namespace glintscope {
@@ -53,6 +55,11 @@ LobeImage make_lobe_image(int resolution, const std::vector<double>& wavelengths
 // the sum over its K×K sub-pixels (geometry.hpp), and 0 where the pixel's centre lies outside
 // the disk (conventions.md: such a pixel holds no direction, even if some sub-pixels do).
 void store_subpixel_means(LobeImage& image, std::size_t layer, const std::vector<double>& pixel_sums, int supersample);
+
+// A layer from a function of the sub-pixel's disk point (inside the unit disk), K×K sub-pixels
+// averaged by store_subpixel_means; rows in parallel, each pixel summed in a fixed order.
+void fill_by_direction(LobeImage& image, std::size_t layer, int supersample,
+                       const std::function<double(DiskPoint)>& value);
 
 // For wavelength-independent results: copies layer 0 into every other layer, so colour and
 // comparisons need no special case.

@@ -17,7 +17,9 @@
 
 namespace glintscope {
 
-enum class FootprintShape { gaussian, box };
+// whole: every point of one period of the field weighs the same (Dong-style large-area NDFs;
+// geometric methods only, MethodInfo::whole_field).
+enum class FootprintShape { gaussian, box, whole };
 
 // The coherence footprint (conventions.md "Coherence / footprint"): a Gaussian
 // w(s) = exp(−|s − x_c|²/(2σ_c²)), A_c = πσ_c², or a box of side `size_um`. Geometric methods
@@ -98,6 +100,7 @@ struct MethodInfo {
     std::vector<QueryField> ignored;   // query fields that do not affect its result
     std::vector<MethodOption> options;
     bool wave_optics = false;          // its lobes carry the coherence blur λ/(2πσ_c)
+    bool whole_field = false;          // it answers FootprintShape::whole
 
     bool answers(Quantity quantity) const;
 };

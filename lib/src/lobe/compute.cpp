@@ -30,6 +30,15 @@ void check_quantity(const MethodInfo& method, Quantity quantity) {
                 (able.empty() ? "none" : join(able)) + ")");
 }
 
+void check_footprint(const MethodInfo& method, const Footprint& footprint) {
+    if (footprint.shape != FootprintShape::whole || method.whole_field) return;
+    std::vector<std::string> able;
+    for (const MethodEntry& entry : method_table())
+        if (entry.info.whole_field) able.push_back(entry.info.name);
+    throw Error("method '" + method.name + "' needs a finite footprint, not the whole field (methods that take it: " +
+                (able.empty() ? "none" : join(able)) + ")");
+}
+
 void check_option_keys(const MethodInfo& method, const LobeQuery& query) {
     for (const auto& [key, value] : query.method_options) {
         const bool known = std::any_of(method.options.begin(), method.options.end(),
@@ -100,6 +109,7 @@ LobeImage compute_lobe(const std::string& method, const LobeQuery& query) {
     const MethodEntry& entry = find_method(method);
     validate(query);
     check_quantity(entry.info, query.quantity);
+    check_footprint(entry.info, query.footprint);
     LobeImage image;
     const auto start = std::chrono::steady_clock::now();
     try {

@@ -4,6 +4,7 @@
 
 #include "glintscope/error.hpp"
 #include "glintscope/geometry.hpp"
+#include "glintscope/parallel.hpp"
 
 namespace glintscope {
 
@@ -40,6 +41,25 @@ void store_subpixel_means(LobeImage& image, std::size_t layer, const std::vector
             image.at(layer, r, c) = inside_unit_disk(disk_pixel_point(r, c, n))
                                         ? static_cast<float>(pixel_sums[std::size_t(r) * n + c] * inverse_count)
                                         : 0.0f;
+}
+
+void fill_by_direction(LobeImage& image, std::size_t layer, int supersample,
+                       const std::function<double(DiskPoint)>& value) {
+    const int n = image.resolution;
+    std::vector<double> pixel_sums(std::size_t(n) * n);
+    parallel_for(n, 4, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r)
+            for (int c = 0; c < n; ++c) {
+                double sum = 0.0;
+                for (int b = 0; b < supersample; ++b)
+                    for (int a = 0; a < supersample; ++a) {
+                        const DiskPoint p = disk_subpixel_point(static_cast<int>(r), c, b, a, n, supersample);
+                        if (inside_unit_disk(p)) sum += value(p);
+                    }
+                pixel_sums[r * n + c] = sum;
+            }
+    });
+    store_subpixel_means(image, layer, pixel_sums, supersample);
 }
 
 void copy_first_layer_to_all(LobeImage& image) {

@@ -2,7 +2,10 @@
 // quantities, ignored query fields, options, compute function) lives in its own folder.
 #include "method.hpp"
 #include "methods/fft/fft_lobe.hpp"
+#include "methods/filtered/filtered_ndf.hpp"
 #include "methods/gabor/gabor.hpp"
+#include "methods/geometric/geometric_lobe.hpp"
+#include "methods/pndf/pndf.hpp"
 #include "methods/stam/stam_lobe.hpp"
 
 namespace glintscope {
@@ -12,6 +15,9 @@ const std::vector<MethodEntry>& method_table() {
         fft_method(),
         gabor_method(),
         stam_method(),
+        pndf_method(),
+        filtered_method(),
+        geometric_method(),
     };
     return table;
 }

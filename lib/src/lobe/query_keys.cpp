@@ -71,12 +71,20 @@ std::vector<double> parse_wavelengths(const std::string& text) {
     return values;
 }
 
-std::string footprint_shape_name(FootprintShape shape) { return shape == FootprintShape::box ? "box" : "gaussian"; }
+std::string footprint_shape_name(FootprintShape shape) {
+    switch (shape) {
+        case FootprintShape::gaussian: return "gaussian";
+        case FootprintShape::box: return "box";
+        case FootprintShape::whole: return "whole";
+    }
+    return "?";
+}
 
 FootprintShape parse_footprint_shape(const std::string& text) {
     if (text == "gaussian") return FootprintShape::gaussian;
     if (text == "box") return FootprintShape::box;
-    throw Error("'" + text + "' is not a footprint shape (gaussian, box)");
+    if (text == "whole") return FootprintShape::whole;
+    throw Error("'" + text + "' is not a footprint shape (gaussian, box, whole)");
 }
 
 const std::vector<KeyBinding>& bindings() {
@@ -118,7 +126,8 @@ const std::vector<KeyBinding>& bindings() {
         {{"quantity", "brdf|ndf", "what a pixel holds: brdf (f_r at omega_o) or ndf (D at h) (default brdf)", ""},
          [](LobeQuery& q, const std::string& t) { q.quantity = parse_quantity(t); },
          [](const LobeQuery& q) { return to_string(q.quantity); }},
-        {{"footprint", "gaussian|box", "footprint shape (default gaussian; --box sets box)", ""},
+        {{"footprint", "gaussian|box|whole",
+          "footprint shape (default gaussian; --box sets box; whole: the entire field, geometric methods)", ""},
          [](LobeQuery& q, const std::string& t) { q.footprint.shape = parse_footprint_shape(t); },
          [](const LobeQuery& q) { return footprint_shape_name(q.footprint.shape); }},
         {{"centre", "X,Y", "footprint centre, lengths (default: the heightfield's centre)", ""},

@@ -128,6 +128,8 @@ std::vector<std::string> caption_lines(const LobeImage& lobe) {
         second.push_back("sigma_c " + number(std::stod(metadata(lobe, "query.sigma_c"))) + " um");
     else if (!metadata(lobe, "query.box").empty())
         second.push_back("box " + number(std::stod(metadata(lobe, "query.box"))) + " um");
+    else if (metadata(lobe, "query.footprint") == "whole")
+        second.push_back("whole field");
     const std::string guides = lobe.quantity == Quantity::brdf ? "rings: theta_o 30, 60 deg; cyan: mirror direction"
                                                                : "rings: theta_h 30, 60 deg; cyan: mean normal n";
     return {join(first, ", "), join(second, ", "), guides};

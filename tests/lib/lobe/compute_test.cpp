@@ -81,7 +81,7 @@ TEST(ComputeLobe, EveryMethodHasAReferenceInTheCitationForm) {
     for (const MethodInfo& method : lobe_methods()) {
         EXPECT_FALSE(method.description.empty()) << method.name;
         // "<Author> <Year> eq. N" (or § / Fig.): a bare "eq. 6" would be ambiguous.
-        EXPECT_TRUE(std::regex_search(method.reference, std::regex("^[A-Z][a-z]+ (19|20)[0-9]{2} (eq\\.|§|Fig\\.)")))
+        EXPECT_TRUE(std::regex_search(method.reference, std::regex("^[A-Z][a-z]+ (19|20)[0-9]{2} (eq\\.|§|sec\\.|Fig\\.)")))
             << method.reference;
         EXPECT_FALSE(method.quantities.empty()) << method.name;
     }

@@ -340,23 +340,8 @@ double stam_value(const Evaluation& e, Vec3 omega_o) {
 
 
 void fill_layer(const Evaluation& e, LobeImage& image, std::size_t layer) {
-    const int n = image.resolution;
-    const int k = e.query->supersample;
-    std::vector<double> pixel_sums(std::size_t(n) * n);
-    parallel_for(n, 4, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t r = begin; r < end; ++r)
-            for (int c = 0; c < n; ++c) {
-                double sum = 0.0;
-                for (int b = 0; b < k; ++b)
-                    for (int a = 0; a < k; ++a) {
-                        const DiskPoint p = disk_subpixel_point(static_cast<int>(r), c, b, a, n, k);
-                        if (!inside_unit_disk(p)) continue;
-                        sum += stam_value(e, direction_from_disk(p.x, p.y));
-                    }
-                pixel_sums[r * n + c] = sum;
-            }
-    });
-    store_subpixel_means(image, layer, pixel_sums, k);
+    fill_by_direction(image, layer, e.query->supersample,
+                      [&](DiskPoint p) { return stam_value(e, direction_from_disk(p.x, p.y)); });
 }
 
 // The footprint's linear size for the σ_c ≫ T comparison: σ_c, or half a box's side.

@@ -1,0 +1,170 @@
+#include "methods/geometric/geometric_lobe.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "geometric/normal_density.hpp"
+#include "glintscope/error.hpp"
+#include "glintscope/material.hpp"
+#include "glintscope/parallel.hpp"
+#include "glintscope/text_format.hpp"
+#include "methods/filtered/filtered_ndf.hpp"
+#include "methods/pndf/pndf.hpp"
+
+namespace glintscope {
+namespace {
+
+struct GeometricSettings {
+    bool filtered = false;
+    bool smith = false;
+    int ndf_oversampling = 4;
+    double filter_sigma_um = 1.0;
+    NormalDensitySettings density;
+};
+
+GeometricSettings read_settings(const LobeQuery& query) {
+    GeometricSettings settings;
+    settings.density = normal_density_settings(query);
+    const std::string ndf = method_option_text(query, "ndf", "pndf");
+    if (ndf != "pndf" && ndf != "filtered") throw Error("option ndf must be pndf or filtered, got '" + ndf + "'");
+    settings.filtered = ndf == "filtered";
+    const std::string shadowing = method_option_text(query, "shadowing", "none");
+    if (shadowing != "none" && shadowing != "smith")
+        throw Error("option shadowing must be none or smith, got '" + shadowing + "'");
+    settings.smith = shadowing == "smith";
+    settings.ndf_oversampling = method_option_integer(query, "ndf_oversampling", settings.ndf_oversampling, 1, 4);
+    settings.filter_sigma_um = filter_sigma_um(query);
+    return settings;
+}
+
+// An image over the projected disk (the NDF at M = oversampling·N, or Smith's G1 over
+// directions), read bilinearly between pixel centres, 0 beyond the image.
+struct DensityTable {
+    int resolution = 0;
+    std::vector<double> values;
+    bool extend_edges = false;  // read beyond the image as its nearest edge pixel (G1), else as 0 (D)
+
+    double at(double x, double y) const {
+        const double u = (x + 1.0) * 0.5 * resolution - 0.5;
+        const double v = (1.0 - y) * 0.5 * resolution - 0.5;
+        const int c = static_cast<int>(std::floor(u));
+        const int r = static_cast<int>(std::floor(v));
+        const double fu = u - c;
+        const double fv = v - r;
+        return (1.0 - fv) * ((1.0 - fu) * pixel(r, c) + fu * pixel(r, c + 1)) +
+               fv * ((1.0 - fu) * pixel(r + 1, c) + fu * pixel(r + 1, c + 1));
+    }
+    double pixel(int r, int c) const {
+        if (extend_edges) {
+            r = std::clamp(r, 0, resolution - 1);
+            c = std::clamp(c, 0, resolution - 1);
+        }
+        if (r < 0 || c < 0 || r >= resolution || c >= resolution) return 0.0;
+        return values[static_cast<std::size_t>(r) * resolution + c];
+    }
+};
+
+DensityTable density_table(const LobeQuery& query, const GeometricSettings& settings) {
+    DensityTable table;
+    table.resolution = std::min(query.resolution * settings.ndf_oversampling, 8192);
+    // The tolerance is in lobe pixels: the lobe, not the finer internal table, is what must not move.
+    NormalDensitySettings density = settings.density;
+    density.tolerance_pixels *= static_cast<double>(table.resolution) / query.resolution;
+    if (settings.filtered) {
+        const BicubicInterpolant smoothed(gaussian_smoothed(*query.field, settings.filter_sigma_um));
+        table.values = normal_density(smoothed, query.footprint, table.resolution, density);
+    } else {
+        table.values = normal_density(*query.surface, query.footprint, table.resolution, density);
+    }
+    return table;
+}
+
+// Smith's G1 for the tabulated NDF (see the header), on a coarse disk grid of directions read
+// bilinearly: Λ varies slowly with direction, and the table keeps the cost independent of N.
+constexpr int kSmithDirections = 64;
+constexpr int kSmithNormals = 128;
+
+DensityTable smith_table(const DensityTable& density) {
+    // The NDF summed down to at most kSmithNormals² pixels (masses add, so Σ D dA is kept).
+    const int factor = std::max(1, density.resolution / kSmithNormals);
+    const int coarse = density.resolution / factor;
+    std::vector<double> mass(static_cast<std::size_t>(coarse) * coarse, 0.0);
+    const double fine_area = disk_pixel_area(density.resolution);
+    for (int r = 0; r < coarse * factor; ++r)
+        for (int c = 0; c < coarse * factor; ++c)
+            mass[static_cast<std::size_t>(r / factor) * coarse + c / factor] += density.pixel(r, c) * fine_area;
+    DensityTable g1;
+    g1.resolution = kSmithDirections;
+    g1.extend_edges = true;
+    g1.values.assign(kSmithDirections * kSmithDirections, 1.0);
+    parallel_for(kSmithDirections, 4, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r)
+            for (int c = 0; c < kSmithDirections; ++c) {
+                DiskPoint p = disk_pixel_point(static_cast<int>(r), c, kSmithDirections);
+                const double radius = std::hypot(p.x, p.y);
+                if (radius > 0.999) p = {p.x * 0.999 / radius, p.y * 0.999 / radius};  // rim pixels read their edge
+                const Vec3 omega = direction_from_disk(p.x, p.y);
+                double projected = 0.0;  // ∫ D(m) ⟨ω·m⟩⁺ dω_m = Σ mass ⟨ω·m⟩⁺ / m_z
+                for (int i = 0; i < coarse; ++i)
+                    for (int j = 0; j < coarse; ++j) {
+                        const double w = mass[static_cast<std::size_t>(i) * coarse + j];
+                        if (w == 0.0) continue;
+                        const DiskPoint q = disk_pixel_point(i, j, coarse);
+                        if (q.x * q.x + q.y * q.y >= 1.0) continue;
+                        const Vec3 m = direction_from_disk(q.x, q.y);
+                        projected += w * std::max(0.0, dot(omega, m)) / m.z;
+                    }
+                g1.values[r * kSmithDirections + c] = projected > 0.0 ? std::min(1.0, omega.z / projected) : 0.0;
+            }
+    });
+    return g1;
+}
+
+LobeImage geometric_lobe(const LobeQuery& query) {
+    const GeometricSettings settings = read_settings(query);
+    const DensityTable density = density_table(query, settings);
+    const DensityTable smith_g1 = settings.smith ? smith_table(density) : DensityTable{};
+    const Vec3 omega_i = query.omega_i;
+    const double g1_i = settings.smith ? smith_g1.at(omega_i.x, omega_i.y) : 1.0;
+    LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
+    const bool has_material = !query.material.name.empty();
+    for (std::size_t l = 0; l < query.wavelengths_um.size(); ++l) {
+        const ComplexIndex eta =
+            has_material ? complex_refractive_index(query.material.name, query.wavelengths_um[l]) : ComplexIndex{};
+        fill_by_direction(image, l, query.supersample, [&](DiskPoint p) {
+            const Vec3 omega_o = direction_from_disk(p.x, p.y);
+            const Vec3 h = normalize(omega_i + omega_o);
+            const double fresnel = has_material ? fresnel_conductor(eta, dot(omega_i, h)) : 1.0;
+            const double shadowing = settings.smith ? g1_i * smith_g1.at(p.x, p.y) : 1.0;
+            return fresnel * density.at(h.x, h.y) * shadowing / (4.0 * omega_i.z * omega_o.z);  // Dong 2015 eq. 1
+        });
+    }
+    image.metadata["geometric.ndf"] = settings.filtered ? "filtered" : "pndf";
+    image.metadata["geometric.shadowing"] = settings.smith ? "smith" : "none";
+    image.metadata["geometric.ndf_resolution"] = std::to_string(density.resolution);
+    image.metadata["geometric.refinement"] = std::to_string(settings.density.refinement);
+    if (settings.filtered) image.metadata["geometric.filter_sigma_um"] = shortest_text(settings.filter_sigma_um);
+    return image;
+}
+
+}  // namespace
+
+MethodEntry geometric_method() {
+    MethodEntry entry;
+    entry.info.name = "geometric";
+    entry.info.description = "microfacet lobe F D G / (4 cos cos) with D the exact P-NDF or the filtered NDF";
+    entry.info.reference = "Dong 2015 eq. 1";
+    entry.info.quantities = {Quantity::brdf};
+    entry.info.ignored = {QueryField::model};
+    entry.info.options = {{"ndf", "pndf or filtered (default pndf)"},
+                          {"shadowing", "none or smith: Smith G1(i) G1(o) for the measured NDF (default none)"},
+                          {"ndf_oversampling", "internal NDF resolution per lobe pixel, 1-4 (default 4)"},
+                          {"filter_sigma", "plane-fit window sigma_f of the filtered NDF, a length (default 1um)"}};
+    for (const MethodOption& option : normal_density_options()) entry.info.options.push_back(option);
+    entry.info.whole_field = true;
+    entry.compute = geometric_lobe;
+    return entry;
+}
+
+}  // namespace glintscope
