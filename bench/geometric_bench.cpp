@@ -1,4 +1,4 @@
-// The exact P-NDF, the filtered NDF and the geometric lobe on the isotropic surface of Yan 2018
+// The exact P-NDF, the filtered NDF, the geometric lobe and the Kirchhoff distribution on the isotropic surface of Yan 2018
 // Fig. 8 (1024² builtin at 1 µm; 8192² from heightfields/isotropic.recipe for the whole-field NDF).
 #include <benchmark/benchmark.h>
 
@@ -52,5 +52,11 @@ void BM_GeometricLobe256(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(glintscope::compute_lobe("geometric", query));
 }
 BENCHMARK(BM_GeometricLobe256)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_KirchhoffDistribution256(benchmark::State& state) {
+    const glintscope::LobeQuery query = builtin_query(256, glintscope::FootprintShape::gaussian, glintscope::Quantity::ndf);
+    for (auto _ : state) benchmark::DoNotOptimize(glintscope::compute_lobe("dk", query));
+}
+BENCHMARK(BM_KirchhoffDistribution256)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -66,7 +66,9 @@ std::vector<std::string> keys_of(QueryField field) {
 
 void label(LobeImage& image, const MethodInfo& method, const LobeQuery& query) {
     for (const auto& [key, value] : describe_query(query)) image.metadata.emplace(key, value);
+    // A method may add fields it ignores for one quantity only (e.g. the incident direction of an NDF).
     std::vector<std::string> not_applicable;
+    if (image.metadata.count("not_applicable")) not_applicable = split(image.metadata.at("not_applicable"), ',');
     for (QueryField field : method.ignored)
         for (const std::string& key : keys_of(field)) not_applicable.push_back(key);
     if (!not_applicable.empty()) image.metadata["not_applicable"] = join(not_applicable);

@@ -1,6 +1,7 @@
 // The table of methods: one line per method. A method's entry (name, description, reference,
 // quantities, ignored query fields, options, compute function) lives in its own folder.
 #include "method.hpp"
+#include "methods/dk/kirchhoff_distribution.hpp"
 #include "methods/fft/fft_lobe.hpp"
 #include "methods/filtered/filtered_ndf.hpp"
 #include "methods/gabor/gabor.hpp"
@@ -18,6 +19,7 @@ const std::vector<MethodEntry>& method_table() {
         pndf_method(),
         filtered_method(),
         geometric_method(),
+        dk_method(),
     };
     return table;
 }

@@ -121,6 +121,9 @@ std::vector<std::string> caption_lines(const LobeImage& lobe) {
         first.push_back(metadata(lobe, "query.material"));
     std::vector<std::string> second;
     if (applies(lobe, "lambda")) second.push_back(wavelength_text(lobe));
+    const std::string lambda_q = metadata(lobe, "dk.lambda_q_um");
+    if (lambda_q == "per-pixel") second.push_back("lambda_q per pixel");
+    else if (!lambda_q.empty()) second.push_back(std::string("lambda_q ").append(number(std::stod(lambda_q) * 1e3, 4)).append(" nm"));
     if (applies(lobe, "omega_i") && !metadata(lobe, "info.theta_i_deg").empty())
         second.push_back("theta_i " + number(std::stod(metadata(lobe, "info.theta_i_deg"))) + " deg, phi_i " +
                          number(std::stod(metadata(lobe, "info.phi_i_deg"))) + " deg");

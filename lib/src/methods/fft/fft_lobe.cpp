@@ -4,6 +4,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 
 #include "numerics/chirp_z.hpp"
@@ -23,15 +24,9 @@ constexpr int kMaxSamplesPerAxis = 16384;
 constexpr std::size_t kMaxSamples = std::size_t(1) << 23;  // ≤ ~0.6 GB of per-sample arrays
 constexpr int kMaxXi3Slices = 4096;
 
-struct FftSettings {
-    double step_um = 0.0;  // 0: chosen per wavelength and axis
-    double window_sigmas = 4.0;
-    double guard_widths = 6.0;
-    double oversampling = 3.0;
-    double phase_error = 0.01;
-};
+}  // namespace
 
-FftSettings read_settings(const LobeQuery& query) {
+FftSettings fft_settings(const LobeQuery& query) {
     FftSettings settings;
     if (query.method_options.count("step")) {
         settings.step_um = method_option_length_um(query, "step", 0.0);
@@ -56,20 +51,24 @@ FftSettings read_settings(const LobeQuery& query) {
     return settings;
 }
 
+namespace {
+
 // One sub-row b of the K×K supersampling: N rows × K·N columns, column m = c·K + a being
 // sub-column a of pixel column c. Positions are regular along rows and columns, so ψ̄/λ is too.
 struct SubpixelGrid {
     int rows = 0;
     int cols = 0;
     std::vector<Vec3> omega_o;
+    std::vector<Vec3> psi;              // geometry.offset + geometry.scale·ω_o
     std::vector<unsigned char> inside;  // inside the unit disk, i.e. above the horizon
 };
 
-SubpixelGrid subpixel_grid(int resolution, int supersample, int sub_row) {
+SubpixelGrid subpixel_grid(int resolution, int supersample, int sub_row, const ScatteringGeometry& geometry) {
     SubpixelGrid grid;
     grid.rows = resolution;
     grid.cols = resolution * supersample;
     grid.omega_o.resize(static_cast<std::size_t>(grid.rows) * grid.cols);
+    grid.psi.resize(grid.omega_o.size());
     grid.inside.resize(grid.omega_o.size());
     const double dv = subpixel_offset(sub_row, supersample);
     for (int r = 0; r < grid.rows; ++r)
@@ -79,6 +78,7 @@ SubpixelGrid subpixel_grid(int resolution, int supersample, int sub_row) {
             const std::size_t i = static_cast<std::size_t>(r) * grid.cols + m;
             grid.inside[i] = inside_unit_disk(p);
             grid.omega_o[i] = direction_from_disk(p.x, p.y);
+            grid.psi[i] = geometry.offset + geometry.scale * grid.omega_o[i];
         }
     return grid;
 }
@@ -86,6 +86,7 @@ SubpixelGrid subpixel_grid(int resolution, int supersample, int sub_row) {
 // Everything one wavelength's transforms share.
 struct WavelengthSetup {
     const LobeQuery* query = nullptr;
+    ScatteringGeometry geometry;
     double lambda_um = 0.0;
     FootprintSamples samples;
     Xi3Slices slices;
@@ -122,7 +123,7 @@ NodeUse node_use(const WavelengthSetup& setup, const SubpixelGrid& grid) {
         for (int m = 0; m < grid.cols; ++m) {
             const std::size_t i = static_cast<std::size_t>(r) * grid.cols + m;
             if (!grid.inside[i]) continue;
-            use.xi3_at[i] = xi3(query.model, query.omega_i, grid.omega_o[i]);
+            use.xi3_at[i] = phase_depends_on_outgoing(query.model) ? grid.psi[i].z : 2.0;  // Yan 2018 Fig. 6: ψ·n or 2
             use.lowest_node[m] = std::min(use.lowest_node[m], setup.slices.lowest_node(use.xi3_at[i]));
             use.highest_node[m] = std::max(use.highest_node[m], setup.slices.highest_node(use.xi3_at[i]));
         }
@@ -184,7 +185,7 @@ void transform_columns(const WavelengthSetup& setup, const SubpixelGrid& grid, c
                 if (weight == 0.0) continue;
                 Complex value = output[r];
                 if (components == 3) {
-                    const Vec3 psi = query.omega_i + grid.omega_o[i];
+                    const Vec3 psi = grid.psi[i];
                     value -= (psi.x * output[grid.rows + r] + psi.y * output[2 * grid.rows + r]) / psi.z;
                 }
                 field[i] += weight * value;
@@ -222,16 +223,10 @@ std::vector<Complex> transformed_field(const WavelengthSetup& setup, const Subpi
     return field;
 }
 
-// Yan 2018 eq. 6: f_r = ξ1/A_c |R̃*(ψ̄/λ)|² with ξ1 = F/λ² times the model's geometric factor
-// (Fig. 6), F evaluated at cos θ_d = ω_i·h = |ψ|/2. Adds the sum over the sub-row's sub-pixels
-// of each pixel to pixel_sums.
+// Adds to pixel_sums, for each pixel, the sum over the sub-row's sub-pixels of
+// factor(ψ, ω_o, λ) · |R̃*(ψ̄/λ)|² / (A_c λ²) (Yan 2018 eq. 6 with ξ1 = factor/λ²).
 void add_subpixel_values(const WavelengthSetup& setup, const SubpixelGrid& grid, const std::vector<Complex>& field,
-                         double area_um2, std::vector<double>& pixel_sums) {
-    const LobeQuery& query = *setup.query;
-    // F(λ, cos θ) of the material (fresnel_reflectance), with the index looked up once per wavelength.
-    const bool has_material = !query.material.name.empty();
-    const ComplexIndex eta =
-        has_material ? complex_refractive_index(query.material.name, setup.lambda_um) : ComplexIndex{};
+                         double area_um2, const ScatteringFactor& factor, std::vector<double>& pixel_sums) {
     const double cell_area = setup.samples.x.step_um * setup.samples.y.step_um;
     const double scale = cell_area * cell_area / (area_um2 * setup.lambda_um * setup.lambda_um);
     const int supersample = grid.cols / grid.rows;
@@ -242,10 +237,7 @@ void add_subpixel_values(const WavelengthSetup& setup, const SubpixelGrid& grid,
                 for (int a = 0; a < supersample; ++a) {
                     const std::size_t i = r * grid.cols + static_cast<std::size_t>(c) * supersample + a;
                     if (!grid.inside[i]) continue;
-                    const Vec3 omega_o = grid.omega_o[i];
-                    const double fresnel =
-                        has_material ? fresnel_conductor(eta, 0.5 * length(query.omega_i + omega_o)) : 1.0;
-                    sum += xi1_geometric(query.model, query.omega_i, omega_o) * fresnel * std::norm(field[i]);
+                    sum += factor(grid.psi[i], grid.omega_o[i], setup.lambda_um) * std::norm(field[i]);
                 }
                 pixel_sums[r * grid.rows + c] += scale * sum;
             }
@@ -283,14 +275,14 @@ FootprintSamples sample_on_axes(const LobeQuery& query, const FootprintExtent& e
 
 // The footprint sampled at the requested step, or at the alias-free step of each axis; if the
 // final grid finds steeper slopes than the estimate, the step is recomputed with them.
-FootprintSamples sample_for_wavelength(const LobeQuery& query, const FootprintExtent& extent,
-                                       const FftSettings& settings, double lambda_um, double xi3_max,
-                                       SlopeBound slopes) {
+FootprintSamples sample_for_wavelength(const LobeQuery& query, const ScatteringGeometry& geometry,
+                                       const FootprintExtent& extent, const FftSettings& settings, double lambda_um,
+                                       double xi3_max, SlopeBound slopes) {
     if (settings.step_um > 0.0) return sample_on_axes(query, extent, settings.step_um, settings.step_um);
     const double guard = settings.guard_widths * extent.spectral_width;
     const double q = settings.oversampling;
-    const double psi_max_x = std::fabs(query.omega_i.x) + 1.0;
-    const double psi_max_y = std::fabs(query.omega_i.y) + 1.0;
+    const double psi_max_x = std::fabs(geometry.offset.x) + geometry.scale;
+    const double psi_max_y = std::fabs(geometry.offset.y) + geometry.scale;
     for (int attempt = 0;; ++attempt) {
         FootprintSamples samples =
             sample_on_axes(query, extent, alias_free_step(psi_max_x, xi3_max, slopes.x, lambda_um, guard, q),
@@ -304,24 +296,29 @@ FootprintSamples sample_for_wavelength(const LobeQuery& query, const FootprintEx
 
 // Fills image layer `layer` from the wavelength's samples: for each sub-row of the K×K
 // supersampling, R̃* at its sub-pixels and their f_r, averaged per pixel.
-void fill_layer(const WavelengthSetup& setup, const FootprintExtent& extent, LobeImage& image, std::size_t layer) {
+void fill_layer(const WavelengthSetup& setup, const FootprintExtent& extent, const ScatteringFactor& factor,
+                LobeImage& image, std::size_t layer) {
     const LobeQuery& query = *setup.query;
     const FootprintSamples& samples = setup.samples;
     const int resolution = query.resolution;
     const int supersample = query.supersample;
     const double lambda = setup.lambda_um;
-    // v = ψ̄/λ on the sub-pixel grid: v_x = (ω_i,x + x_m)/λ with x_m = (m + 1/2)·2/(K·N) − 1, and
-    // v_y = (ω_i,y + y_r)/λ with y_r = 1 − (r + 1/2 + dv)·2/N (conventions.md "Frames and images").
+    // v = ψ̄/λ on the sub-pixel grid: v_x = (o_x + k·x_m)/λ with x_m = (m + 1/2)·2/(K·N) − 1, and
+    // v_y = (o_y + k·y_r)/λ with y_r = 1 − (r + 1/2 + dv)·2/N (conventions.md "Frames and images"),
+    // o and k the geometry's offset and scale (a lobe: ω_i and 1).
+    const ScatteringGeometry& geometry = setup.geometry;
     const double first_x = disk_pixel_point(0, 0, resolution, subpixel_offset(0, supersample)).x;
     const ChirpZ along_x(samples.x.count, resolution * supersample, samples.x.step_um,
-                         (query.omega_i.x + first_x) / lambda, 2.0 / (resolution * supersample * lambda));
+                         (geometry.offset.x + geometry.scale * first_x) / lambda,
+                         geometry.scale * 2.0 / (resolution * supersample * lambda));
     std::vector<double> pixel_sums(static_cast<std::size_t>(resolution) * resolution);
     for (int sub_row = 0; sub_row < supersample; ++sub_row) {
         const double first_y = disk_pixel_point(0, 0, resolution, 0.0, subpixel_offset(sub_row, supersample)).y;
-        const ChirpZ along_y(samples.y.count, resolution, samples.y.step_um, (query.omega_i.y + first_y) / lambda,
-                             -2.0 / (resolution * lambda));
-        const SubpixelGrid grid = subpixel_grid(resolution, supersample, sub_row);
-        add_subpixel_values(setup, grid, transformed_field(setup, grid, along_x, along_y), extent.area_um2,
+        const ChirpZ along_y(samples.y.count, resolution, samples.y.step_um,
+                             (geometry.offset.y + geometry.scale * first_y) / lambda,
+                             -geometry.scale * 2.0 / (resolution * lambda));
+        const SubpixelGrid grid = subpixel_grid(resolution, supersample, sub_row, geometry);
+        add_subpixel_values(setup, grid, transformed_field(setup, grid, along_x, along_y), extent.area_um2, factor,
                             pixel_sums);
     }
     store_subpixel_means(image, layer, pixel_sums, supersample);
@@ -350,27 +347,28 @@ struct GridRecord {
 
 }  // namespace
 
-LobeImage fft_lobe(const LobeQuery& query) {
-    const FftSettings settings = read_settings(query);
+void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometry, const ScatteringFactor& factor,
+                       LobeImage& image) {
+    const FftSettings settings = fft_settings(query);
     const FootprintExtent extent = footprint_extent(query.footprint, settings.window_sigmas);
-    // ξ3 over the image: 2, or ψ·n = cos θ_i + cos θ_o with cos θ_o ∈ (0, 1].
+    // ξ3 over the image: 2, or ψ_z = o_z + k·cos θ_o with cos θ_o ∈ (0, 1].
     const bool varying_xi3 = phase_depends_on_outgoing(query.model);
-    const double xi3_min = varying_xi3 ? query.omega_i.z : 2.0;
-    const double xi3_max = varying_xi3 ? query.omega_i.z + 1.0 : 2.0;
+    const double xi3_min = varying_xi3 ? geometry.offset.z : 2.0;
+    const double xi3_max = varying_xi3 ? geometry.offset.z + geometry.scale : 2.0;
     const SlopeBound slopes = settings.step_um > 0.0 ? SlopeBound{} : footprint_slopes(*query.surface, extent);
 
-    LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
     GridRecord record;
-    for (std::size_t layer = 0; layer < query.wavelengths_um.size(); ++layer) {
+    for (std::size_t layer = 0; layer < image.layers(); ++layer) {
         WavelengthSetup setup;
         setup.query = &query;
-        setup.lambda_um = query.wavelengths_um[layer];
-        setup.samples = sample_for_wavelength(query, extent, settings, setup.lambda_um, xi3_max, slopes);
+        setup.geometry = geometry;
+        setup.lambda_um = image.wavelengths_um[layer];
+        setup.samples = sample_for_wavelength(query, geometry, extent, settings, setup.lambda_um, xi3_max, slopes);
         setup.slices = choose_xi3_slices(query.model, setup.samples, setup.lambda_um, xi3_min, xi3_max,
                                          settings.phase_error, kMaxXi3Slices);
         if (setup.slices.nodes_per_unit)
             setup.node_step = phase_factors(setup, 1.0 / setup.slices.nodes_per_unit, false);
-        fill_layer(setup, extent, image, layer);
+        fill_layer(setup, extent, factor, image, layer);
         record.add(setup);
     }
     image.metadata["fft.step_um"] = GridRecord::join(record.steps);
@@ -381,7 +379,34 @@ LobeImage fft_lobe(const LobeQuery& query) {
     image.metadata["fft.guard_widths"] = shortest_text(settings.guard_widths);
     image.metadata["fft.oversampling"] = shortest_text(settings.oversampling);
     if (varying_xi3) image.metadata["fft.phase_error"] = shortest_text(settings.phase_error);
+}
+
+namespace {
+
+LobeImage fft_lobe(const LobeQuery& query) {
+    // F(λ, cos θ_d) of the material with cos θ_d = ω_i·h = |ψ|/2, the index looked up once per wavelength.
+    const bool has_material = !query.material.name.empty();
+    std::map<double, ComplexIndex> indices;
+    if (has_material)
+        for (double lambda : query.wavelengths_um) indices[lambda] = complex_refractive_index(query.material.name, lambda);
+    const ScatteringFactor xi1 = [&](const Vec3& psi, const Vec3& omega_o, double lambda) {
+        const double fresnel = has_material ? fresnel_conductor(indices.at(lambda), 0.5 * length(psi)) : 1.0;
+        return xi1_geometric(query.model, query.omega_i, omega_o) * fresnel;  // Yan 2018 Fig. 6, ξ1·λ²
+    };
+    LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
+    scattering_layers(query, {query.omega_i, 1.0}, xi1, image);
     return image;
+}
+
+}  // namespace
+
+std::vector<MethodOption> fft_options() {
+    return {{"step", "grid step, a length (default: alias-free per wavelength and axis)"},
+            {"window", "Gaussian footprint: sampled half-width in sigma_c (default 4)"},
+            {"guard", "spectral margin in footprint spectral widths (default 6 for a Gaussian, 32 for a box)"},
+            {"oversampling", "step oversampling beyond the alias-free bound, for the C1 interpolant (default 3)"},
+            {"phase_error", "GHS, R-GHS, Kirchhoff: xi3 interpolation error bound, in flat-mirror peak amplitudes "
+                            "(default 0.01)"}};
 }
 
 MethodEntry fft_method() {
@@ -390,12 +415,7 @@ MethodEntry fft_method() {
              "Yan 2018 eq. 6",
              {Quantity::brdf},
              {},
-             {{"step", "grid step, a length (default: alias-free per wavelength and axis)"},
-              {"window", "Gaussian footprint: sampled half-width in sigma_c (default 4)"},
-              {"guard", "spectral margin in footprint spectral widths (default 6 for a Gaussian, 32 for a box)"},
-              {"oversampling", "step oversampling beyond the alias-free bound, for the C1 interpolant (default 3)"},
-              {"phase_error", "GHS, R-GHS, Kirchhoff: xi3 interpolation error bound, in flat-mirror peak amplitudes "
-                              "(default 0.01)"}},
+             fft_options(),
              true},
             fft_lobe};
 }

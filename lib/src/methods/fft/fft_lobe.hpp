@@ -20,11 +20,42 @@
 //   phase_error  GHS, R-GHS, Kirchhoff: bound ε on the ξ3 interpolation error, in units of a flat
 //                mirror's peak amplitude ∫|w| ds (default 0.01).
 // The metadata records per wavelength "fft.step_um", "fft.grid", "fft.xi3_slices".
+#include <functional>
+
 #include "lobe/method.hpp"
 
 namespace glintscope {
 
-LobeImage fft_lobe(const LobeQuery& query);
+// The same transform for any ψ affine in the image's direction: ψ = offset + scale·ω for the
+// direction ω of each (sub-)pixel. A lobe: offset ω_i, scale 1. Dong 2015's Kirchhoff
+// distribution over h: offset 0, scale 2 (q = 4πh/λ_q = 2π(2h)/λ_q).
+struct ScatteringGeometry {
+    Vec3 offset;
+    double scale = 1.0;
+};
+
+// The factor of |R̃*(ψ̄/λ)|²/(A_c λ²) at a sub-pixel, from its ψ, its direction ω and λ
+// (a lobe: ξ1·λ² of Yan 2018 Fig. 6 with the Fresnel factor).
+using ScatteringFactor = std::function<double(const Vec3& psi, const Vec3& omega, double lambda_um)>;
+
+// Fills every layer λ of `image` (resolution and wavelengths set) with the K×K sub-pixel mean of
+// factor · |R̃*(ψ̄/λ)|²/(A_c λ²), R̃* of the query's model, footprint and options as above, and
+// records the grid in the metadata ("fft.*"). Throws Error on a bad option or a grid too large.
+void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometry, const ScatteringFactor& factor,
+                       LobeImage& image);
+
+// The options above, checked.
+struct FftSettings {
+    double step_um = 0.0;  // 0: chosen per wavelength and axis
+    double window_sigmas = 4.0;
+    double guard_widths = 6.0;
+    double oversampling = 3.0;
+    double phase_error = 0.01;
+};
+FftSettings fft_settings(const LobeQuery& query);
+
+// The option list of every method built on these transforms.
+std::vector<MethodOption> fft_options();
 
 // The method-table entry: "fft", Yan 2018 eq. 6, brdf, the options above.
 MethodEntry fft_method();

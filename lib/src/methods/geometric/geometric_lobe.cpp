@@ -5,6 +5,7 @@
 #include <string>
 
 #include "geometric/normal_density.hpp"
+#include "numerics/disk_table.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/material.hpp"
 #include "glintscope/parallel.hpp"
@@ -38,35 +39,8 @@ GeometricSettings read_settings(const LobeQuery& query) {
     return settings;
 }
 
-// An image over the projected disk (the NDF at M = oversampling·N, or Smith's G1 over
-// directions), read bilinearly between pixel centres, 0 beyond the image.
-struct DensityTable {
-    int resolution = 0;
-    std::vector<double> values;
-    bool extend_edges = false;  // read beyond the image as its nearest edge pixel (G1), else as 0 (D)
-
-    double at(double x, double y) const {
-        const double u = (x + 1.0) * 0.5 * resolution - 0.5;
-        const double v = (1.0 - y) * 0.5 * resolution - 0.5;
-        const int c = static_cast<int>(std::floor(u));
-        const int r = static_cast<int>(std::floor(v));
-        const double fu = u - c;
-        const double fv = v - r;
-        return (1.0 - fv) * ((1.0 - fu) * pixel(r, c) + fu * pixel(r, c + 1)) +
-               fv * ((1.0 - fu) * pixel(r + 1, c) + fu * pixel(r + 1, c + 1));
-    }
-    double pixel(int r, int c) const {
-        if (extend_edges) {
-            r = std::clamp(r, 0, resolution - 1);
-            c = std::clamp(c, 0, resolution - 1);
-        }
-        if (r < 0 || c < 0 || r >= resolution || c >= resolution) return 0.0;
-        return values[static_cast<std::size_t>(r) * resolution + c];
-    }
-};
-
-DensityTable density_table(const LobeQuery& query, const GeometricSettings& settings) {
-    DensityTable table;
+DiskTable density_table(const LobeQuery& query, const GeometricSettings& settings) {
+    DiskTable table;
     table.resolution = std::min(query.resolution * settings.ndf_oversampling, 8192);
     // The tolerance is in lobe pixels: the lobe, not the finer internal table, is what must not move.
     NormalDensitySettings density = settings.density;
@@ -85,7 +59,7 @@ DensityTable density_table(const LobeQuery& query, const GeometricSettings& sett
 constexpr int kSmithDirections = 64;
 constexpr int kSmithNormals = 128;
 
-DensityTable smith_table(const DensityTable& density) {
+DiskTable smith_table(const DiskTable& density) {
     // The NDF summed down to at most kSmithNormals² pixels (masses add, so Σ D dA is kept).
     const int factor = std::max(1, density.resolution / kSmithNormals);
     const int coarse = density.resolution / factor;
@@ -94,7 +68,7 @@ DensityTable smith_table(const DensityTable& density) {
     for (int r = 0; r < coarse * factor; ++r)
         for (int c = 0; c < coarse * factor; ++c)
             mass[static_cast<std::size_t>(r / factor) * coarse + c / factor] += density.pixel(r, c) * fine_area;
-    DensityTable g1;
+    DiskTable g1;
     g1.resolution = kSmithDirections;
     g1.extend_edges = true;
     g1.values.assign(kSmithDirections * kSmithDirections, 1.0);
@@ -123,8 +97,8 @@ DensityTable smith_table(const DensityTable& density) {
 
 LobeImage geometric_lobe(const LobeQuery& query) {
     const GeometricSettings settings = read_settings(query);
-    const DensityTable density = density_table(query, settings);
-    const DensityTable smith_g1 = settings.smith ? smith_table(density) : DensityTable{};
+    const DiskTable density = density_table(query, settings);
+    const DiskTable smith_g1 = settings.smith ? smith_table(density) : DiskTable{};
     const Vec3 omega_i = query.omega_i;
     const double g1_i = settings.smith ? smith_g1.at(omega_i.x, omega_i.y) : 1.0;
     LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);

@@ -7,10 +7,13 @@
 #include <cmath>
 
 #include "glintscope/generate.hpp"
+#include "disk_sums.hpp"
 #include "glintscope/lobe.hpp"
 
 namespace glintscope {
 namespace {
+
+using testing::second_moment;
 
 Heightfield isotropic_field(int size) {
     Recipe recipe = default_recipe("isotropic");
@@ -25,17 +28,6 @@ LobeQuery whole_field_query(Heightfield field, int resolution) {
     query.quantity = Quantity::ndf;
     set_heightfield(query, std::move(field));
     return query;
-}
-
-// Σ D |m_xy|² dA: the NDF's second moment on the projected disk.
-double second_moment(const LobeImage& image) {
-    double sum = 0.0;
-    for (int r = 0; r < image.resolution; ++r)
-        for (int c = 0; c < image.resolution; ++c) {
-            const DiskPoint p = disk_pixel_point(r, c, image.resolution);
-            sum += image.at(0, r, c) * (p.x * p.x + p.y * p.y);
-        }
-    return sum * disk_pixel_area(image.resolution);
 }
 
 TEST(FilteredNdf, SmoothedSlopeIsTheGaussianWeightedPlaneFit) {

@@ -1,0 +1,29 @@
+#pragma once
+// Sums over a projected-disk image that several method tests assert on.
+#include <cstddef>
+
+#include "glintscope/geometry.hpp"
+#include "glintscope/image.hpp"
+
+namespace glintscope::testing {
+
+// Σ value·(2/N)² over one layer: the albedo of a BRDF, the normalisation of an NDF.
+inline double disk_sum(const LobeImage& image, std::size_t layer = 0) {
+    double sum = 0.0;
+    for (int r = 0; r < image.resolution; ++r)
+        for (int c = 0; c < image.resolution; ++c) sum += image.at(layer, r, c);
+    return sum * disk_pixel_area(image.resolution);
+}
+
+// Σ D |h_xy|² (2/N)²: an NDF's second moment on the disk (its squared rms width).
+inline double second_moment(const LobeImage& image) {
+    double sum = 0.0;
+    for (int r = 0; r < image.resolution; ++r)
+        for (int c = 0; c < image.resolution; ++c) {
+            const DiskPoint p = disk_pixel_point(r, c, image.resolution);
+            sum += image.at(0, r, c) * (p.x * p.x + p.y * p.y);
+        }
+    return sum * disk_pixel_area(image.resolution);
+}
+
+}  // namespace glintscope::testing
