@@ -108,6 +108,43 @@ TEST(NormalDensity, SphereCapUnderGaussianFootprintIsGaussianOfCentreOverRadius)
     EXPECT_LT(error, 0.01);
 }
 
+TEST(NormalDensity, ParaboloidIsAGaussianInSlopeSpace) {
+    // H = ½ a (x−x0)² + ½ b (y−y0)² + c (x−x0)(y−y0): the slope (H_x, H_y) = J (s − o) is linear in
+    // position (J the Hessian), so the footprint weight (a normalised Gaussian of σ_w = σ_c/√2)
+    // maps to a Gaussian in slope space of mean J (x_c − o) and covariance σ_w² J Jᵀ. On the
+    // projected disk h_xy = −s/√(1 + |s|²), whose Jacobian is (1 + |s|²)⁻², so
+    // D(h) = p(s) (1 + |s|²)². The bicubic reproduces quadratics exactly.
+    const double a = 0.008, b = 0.006, c = 0.002;  // Hessian eigenvalues 0.0092, 0.0048
+    const Point2 origin{118.0, 135.0}, centre{128.0, 128.0};
+    const BicubicInterpolant surface(field_from(256, 256, 1.0, [&](double x, double y) {
+        const double u = x - origin.x, v = y - origin.y;
+        return 0.5 * a * u * u + 0.5 * b * v * v + c * u * v;
+    }));
+    const int n = 256;
+    const std::vector<double> density = normal_density(surface, gaussian_at(centre, 10.0), n, {});
+    const double sigma_w = 10.0 / std::numbers::sqrt2;
+    const double mean_x = a * (centre.x - origin.x) + c * (centre.y - origin.y);
+    const double mean_y = c * (centre.x - origin.x) + b * (centre.y - origin.y);
+    // Covariance σ_w² J Jᵀ of the symmetric J = [[a, c], [c, b]].
+    const double cxx = sigma_w * sigma_w * (a * a + c * c), cyy = sigma_w * sigma_w * (c * c + b * b);
+    const double cxy = sigma_w * sigma_w * (a * c + c * b);
+    const double det = cxx * cyy - cxy * cxy;
+    std::vector<double> expected(density.size(), 0.0);
+    for (int r = 0; r < n; ++r)
+        for (int col = 0; col < n; ++col) {
+            const DiskPoint h = disk_pixel_point(r, col, n);
+            if (!inside_unit_disk(h)) continue;
+            const double hz = std::sqrt(1.0 - h.x * h.x - h.y * h.y);
+            const double sx = -h.x / hz - mean_x, sy = -h.y / hz - mean_y;
+            const double quadratic = (cyy * sx * sx - 2.0 * cxy * sx * sy + cxx * sy * sy) / det;
+            const double slope_density = std::exp(-0.5 * quadratic) / (2.0 * std::numbers::pi * std::sqrt(det));
+            expected[r * n + col] = slope_density / std::pow(hz, 4);  // (1 + |s|²)² = 1/h_z⁴
+        }
+    const double error = relative_l2(density, expected);
+    RecordProperty("relative_l2", std::to_string(error));
+    EXPECT_LT(error, 0.01);
+}
+
 TEST(NormalDensity, SinusoidOverWholePeriodsFollowsTheArcsineLawWithSharpEdges) {
     // H = A sin(2πx/Λ): the slope s = H_x is s_max cos(2πx/Λ), uniformly distributed in phase,
     // so its law is the arcsine law with CDF ½ + asin(s/s_max)/π, and all normals have m_y = 0.
