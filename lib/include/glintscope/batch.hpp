@@ -28,6 +28,7 @@ struct Manifest {
     std::string caption;
     std::string output;  // the figure's PNG, relative to the manifest's folder unless absolute
     SharedExposure exposure = SharedExposure::per_row;
+    bool log_scale = false;  // scale = "log": panels on a log scale (NDFs with sharp folds)
     std::vector<std::string> row_labels;
     std::vector<std::string> column_labels;
     std::vector<ManifestPanel> panels;  // row-major

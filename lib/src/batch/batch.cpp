@@ -108,7 +108,9 @@ void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchRe
     for (std::size_t k = 0; k < manifest.panels.size(); ++k)
         figure.cells[manifest.panels[k].row][manifest.panels[k].column] = &images[k];
     result.figure_path = figure_path(manifest).string();
-    write_figure(figure, result.figure_path, output);
+    LobeOutputOptions figure_output = output;
+    figure_output.colour.log_scale = figure_output.colour.log_scale || manifest.log_scale;
+    write_figure(figure, result.figure_path, figure_output);
     result.record_path = result.figure_path.substr(0, result.figure_path.size() - 4) + ".json";
     write_record(manifest, result.record_path);
     result.assembled = true;

@@ -135,7 +135,14 @@ void resolve_paths(QueryText& query, const std::string& base_dir) {
             value = (std::filesystem::path(base_dir) / value).lexically_normal().string();
 }
 
-const std::vector<std::string> kTopKeys = {"title", "caption", "output", "exposure", "defaults", "row", "column"};
+bool parse_log_scale(const std::string& path, const toml::table& root) {
+    const std::string text = string_value(path, root, "scale", false);
+    if (text.empty() || text == "linear") return false;
+    if (text == "log") return true;
+    fail(path, root.get("scale")->source(), "scale", "'" + text + "' is not linear or log");
+}
+
+const std::vector<std::string> kTopKeys = {"title", "caption", "output", "exposure", "scale", "defaults", "row", "column"};
 
 }  // namespace
 
@@ -156,6 +163,7 @@ Manifest load_manifest(const std::string& path) {
     manifest.output = string_value(path, root, "output", true);
     if (!manifest.output.ends_with(".png")) fail(path, root.get("output")->source(), "output", "the figure must be a .png");
     manifest.exposure = parse_exposure(path, root);
+    manifest.log_scale = parse_log_scale(path, root);
     Entry defaults;
     if (const toml::node* node = root.get("defaults")) {
         if (!node->is_table()) fail(path, node->source(), "defaults", "expected a [defaults] table");

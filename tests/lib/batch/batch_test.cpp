@@ -129,6 +129,9 @@ TEST(Batch, MalformedManifestsNameFileLineAndKey) {
     EXPECT_NE(manifest_error(head + column + "method = \"raytrace\"\n").find("unknown method 'raytrace'"),
               std::string::npos);
     EXPECT_NE(manifest_error("output = \"f.png\"\n[[row\n").find("m.toml:2:"), std::string::npos);
+    EXPECT_NE(manifest_error("scale = \"sideways\"\n" + head + column).find("m.toml:1: key 'scale': 'sideways' is not linear or log"),
+              std::string::npos);
+    EXPECT_NE(manifest_error(head + column + "method = \"pndf\"\n").find("does not compute brdf"), std::string::npos);
 }
 
 // The label text is drawn: the figure with labels differs from the one without exactly where the
