@@ -1,5 +1,5 @@
 #pragma once
-// The five scalar diffraction models of Yan et al. 2018, Fig. 6, through which eq. 2/3/6 read
+// The five scalar diffraction models of Yan 2018 Fig. 6, through which Yan 2018 eq. 2/3/6 read
 // f_r = ξ1/A_c · |∫ w ξ2 e^{−i2π ξ3 H/λ} e^{−i2π ψ̄·s/λ} ds|².
 #include <string>
 

@@ -54,12 +54,12 @@ struct GratingParameters {
 // Stam 1999 eq. 20: g⁰ = 1 (flat-topped CD bumps), g¹ = 1/2 + x/a (a ramp across the bump).
 enum class BumpShape { flat, ramp };
 
-// Overlapping Poisson bumps either add, as in Stam's eq. 18 (matching his spectrum, eq. 23, for
+// Overlapping Poisson bumps either add, as in Stam 1999 eq. 18 (matching his spectrum, Stam 1999 eq. 23, for
 // weak phases), or merge into one bump of height h0, like the pits of a real disc.
 enum class BumpOverlap { add, merge };
 
-// Stam 1999 §5 and Table 1: bumps b(x, y) = h0 g(x/a) rect(x/a) rect(y/b) (eq. 19) summed over
-// tracks along y at x_n = (n + 1/2)Δx, Poisson distributed along each track (eq. 18).
+// Stam 1999 §5 and Table 1: bumps b(x, y) = h0 g(x/a) rect(x/a) rect(y/b) (Stam 1999 eq. 19) summed over
+// tracks along y at x_n = (n + 1/2)Δx, Poisson distributed along each track (Stam 1999 eq. 18).
 struct CdParameters {
     double bump_height_um = 0.15;       // h0
     double bump_width_um = 0.5;         // a (across the track, along x)

@@ -1,9 +1,9 @@
-// CD-like bump tracks (Stam 1999 §5): h(x, y) = Σ_n Σ_m b(x − x_n, y − y_m) (eq. 18) with
-// b = h0 g(x/a) rect(x/a) rect(y/b) (eq. 19), tracks along y at x_n = (n + 1/2)Δx and bump
+// CD-like bump tracks (Stam 1999 §5): h(x, y) = Σ_n Σ_m b(x − x_n, y − y_m) (Stam 1999 eq. 18) with
+// b = h0 g(x/a) rect(x/a) rect(y/b) (Stam 1999 eq. 19), tracks along y at x_n = (n + 1/2)Δx and bump
 // centres y_m a Poisson process of density ν_y on each track.
-// Poisson bumps overlap. BumpOverlap::add keeps eq. 18's sum (stacked bumps reach 2h0, 3h0, ...);
-// it is the surface whose phase exp(ikwh) Stam's eq. 21 expands to first order, so it matches his
-// spectrum (eq. 23) for weak phases. BumpOverlap::merge takes the union of a track's bumps
+// Poisson bumps overlap. BumpOverlap::add keeps Stam 1999 eq. 18's sum (stacked bumps reach 2h0, 3h0, ...);
+// it is the surface whose phase exp(ikwh) Stam 1999 eq. 21 expands to first order, so it matches his
+// spectrum (Stam 1999 eq. 23) for weak phases. BumpOverlap::merge takes the union of a track's bumps
 // instead, like the pits of a real disc, which are never deeper than h0.
 // Each texel holds the area average of h over its square (the rect edges integrated exactly),
 // so the sharp bump edges do not alias and the volume Σ h·dx² is exact.
@@ -79,7 +79,7 @@ std::vector<Interval> track_intervals(const std::vector<double>& centres, const 
 
 double overlap(double a0, double a1, double b0, double b1) { return std::max(0.0, std::min(a1, b1) - std::max(a0, b0)); }
 
-// ∫ g(x/a) over the part of [x0, x1] inside the bump, for a bump centred at x = 0 (eq. 20:
+// ∫ g(x/a) over the part of [x0, x1] inside the bump, for a bump centred at x = 0 (Stam 1999 eq. 20:
 // g⁰ = 1; g¹ = 1/2 + x/a, which rises from 0 to 1 across the bump).
 double profile_integral(const CdParameters& parameters, double x0, double x1) {
     const double half = 0.5 * parameters.bump_width_um;

@@ -172,7 +172,7 @@ const std::vector<KeyBinding>& bindings() {
         choice_key<BumpShape>("bump_shape", "flat (Stam's g⁰ = 1) or ramp (g¹ = 1/2 + x/a)", {"cd"}, kBumpShapeNames,
                               [](Recipe& r) -> BumpShape& { return r.cd.shape; }),
         choice_key<BumpOverlap>("bump_overlap",
-                                "overlapping bumps: add (Stam's eq. 18 sum) or merge (one pit of height h0)", {"cd"},
+                                "overlapping bumps: add (Stam 1999 eq. 18 sum) or merge (one pit of height h0)", {"cd"},
                                 kBumpOverlapNames, [](Recipe& r) -> BumpOverlap& { return r.cd.overlap; }),
     };
     return table;

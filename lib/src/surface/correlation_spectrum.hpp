@@ -1,5 +1,5 @@
 #pragma once
-// The power spectral density of Stam's correlation functions (Stam 1999 §4.1, eq. 15 with m = 1)
+// The power spectral density of Stam's correlation functions (Stam 1999 §4.1, Stam 1999 eq. 15 with m = 1)
 // as seen by a sampled, periodic grid: the filter of the Gaussian random field generator.
 #include <vector>
 

@@ -1,5 +1,5 @@
 #pragma once
-// The Kirchhoff distribution of Dong 2015 (eq. 6), conventions.md "Geometric NDFs":
+// The Kirchhoff distribution of Dong 2015 eq. 6, conventions.md "Geometric NDFs":
 //   D_K(q) = |∫ (q·m(s)) e^{−i q·s} ds|² / (4π² A),   m ds = (−H_x, −H_y, 1) dx dy,
 // s = (x, y, H) on the surface, the footprint's window w in the integrand and A = A_c = ∫|w|².
 // With q = 2πψ/λ this is Yan 2018's Kirchhoff-model integral: q·m ds = (2π/λ) ψ_z ξ2 dx dy with
@@ -14,7 +14,7 @@
 // when the sum is off 1 by more than 2%.
 // quantity brdf: Dong 2015 eq. 8, f_r = F(ω_i·h) D_K(4πh/λ_q) / (4 cosθ_i cosθ_o) (G = 1), D_K
 // computed at ndf_oversampling × N and read bilinearly at each sub-pixel's h. With
-// lambda_q=per-pixel, λ_q = 2λ/|ω_i + ω_o| (Dong 2015 eq. 5), q = 2π(ω_i + ω_o)/λ, and eq. 7
+// lambda_q=per-pixel, λ_q = 2λ/|ω_i + ω_o| (Dong 2015 eq. 5), q = 2π(ω_i + ω_o)/λ, and Dong 2015 eq. 7
 // is the Kirchhoff integral itself: the lobe is the fft method's kirchhoff-model lobe.
 // Method options: lambda_q, ndf_oversampling (1-4, default 2) and the fft method's grid options.
 #include "lobe/method.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// The FFT ground truth of a wave-optics lobe (Yan et al. 2018 §3.2, eq. 3, 4, 6):
+// The FFT ground truth of a wave-optics lobe (Yan 2018 §3.2, Yan 2018 eq. 3, 4, 6):
 //   f_r(ω_i, ω_o) = ξ1/A_c · |R̃*(ψ̄/λ)|²,   R*(s) = w(s − x_c) ξ2 e^{−i2π ξ3 H(s)/λ},
 // with H and H' taken from the shared BicubicInterpolant on a fine regular grid over the
 // footprint, and R̃* evaluated exactly at every sub-pixel's ψ̄/λ by separable chirp-z transforms

@@ -4,16 +4,16 @@
 // p = e^{−i2π ξ3 H/λ}, v = ψ̄/λ (Yan 2018 eq. 3, 6). Stam replaces the one surface by its
 // statistics: ⟨|R̃|²⟩ = |⟨p⟩|²|w̃(v)|² + ∫ (w⋆w)(τ) C_p(τ) e^{−i2π v·τ} dτ (Stam 1999 eq. 11), and
 // when the footprint is much wider than the correlation length T (σ_c ≫ T), w⋆w ≈ A_c over the
-// support of C_p, so f_r = ξ1 (e^{−g} |w̃(v)|²/A_c + S_p(v)) with ⟨p⟩ = e^{−g/2} (Stam eq. 12).
+// support of C_p, so f_r = ξ1 (e^{−g} |w̃(v)|²/A_c + S_p(v)) with ⟨p⟩ = e^{−g/2} (Stam 1999 eq. 12).
 // Stam's infinite patch has δ(u, v) in place of |w̃|²/A_c; here the coherent part is drawn as the
 // footprint's own window transform, exactly as the FFT lobe draws a flat mirror, times e^{−g}.
 //
-// Diffraction model (docs/stam.md): Stam's field (eq. 2, 6–8) is the Kirchhoff integral with the
+// Diffraction model (docs/stam.md): Stam's field (Stam 1999 eq. 2, 6–8) is the Kirchhoff integral with the
 // slope term integrated by parts, ∫ (ψ·m) e^{…} ds = (|ψ|²/ψ·n) ∫ e^{…} ds over the whole plane,
-// and his factor F² G/w² (eq. 9–10) with G = (1 − k̂1·k̂2)²/(cos θ1 cos θ2), k̂1 = −ω_i, k̂2 = ω_o,
+// and his factor F² G/w² (Stam 1999 eq. 9–10) with G = (1 − k̂1·k̂2)²/(cos θ1 cos θ2), k̂1 = −ω_i, k̂2 = ω_o,
 // w = −ψ·n, equals |ψ|⁴/(4 cos θ_i cos θ_o (ψ·n)²): that is Yan 2018 Fig. 6's Kirchhoff model,
 // ξ1 = F (ψ·n)²/(4λ² cos θ_i cos θ_o), ξ3 = ψ·n, with ξ2 replaced by its integrated-by-parts
-// value |ψ|²/(ψ·n)². The statistics (eq. 11–16) only need ξ2 independent of H, so every model of
+// value |ψ|²/(ψ·n)². The statistics (Stam 1999 eq. 11–16) only need ξ2 independent of H, so every model of
 // Fig. 6 is honoured: OHS, GHS, R-OHS, R-GHS with their own ξ1, ξ3 and ξ2 = 1, Kirchhoff as Stam.
 // F is applied once (the reflectance), where Stam's F² squares his amplitude-like F.
 #include "methods/stam/stam_lobe.hpp"
@@ -273,8 +273,8 @@ OrderRange orders_near(const Footprint& footprint, double lambda_um, double peri
             static_cast<int>(std::floor((-v_along + reach) * period_um))};
 }
 
-// ⟨|R̃|²⟩/A_c for a Gaussian random field: e^{−g}|w̃|²/A_c + S_p, g = (2π ξ3 σ_h/λ)² (Stam 1999
-// eq. 12–16 with k w → 2π ξ3/λ).
+// ⟨|R̃|²⟩/A_c for a Gaussian random field: e^{−g}|w̃|²/A_c + S_p, g = (2π ξ3 σ_h/λ)²
+// (Stam 1999 eq. 12–16 with k w → 2π ξ3/λ).
 double gaussian_intensity(const Evaluation& e, double xi3_value, double vx, double vy) {
     const GaussianFieldParameters& surface = e.surface->gaussian;
     const double root_g = 2.0 * pi * xi3_value * surface.sigma_h_um / e.lambda_um;
@@ -298,11 +298,11 @@ double grating_intensity(const Evaluation& e, double xi3_value, double vx, doubl
 }
 
 // CD tracks along y at x_n = (n + 1/2)Δx with Poisson bumps of density ν_y per track, to first
-// order in the bumps as Stam's eq. 21 (p = 1 + Σ φ): the mean field is
+// order in the bumps as Stam 1999 eq. 21 (p = 1 + Σ φ): the mean field is
 // w̃(v) + (ν_y/Δx) Φ(v) Σ_m ± w̃(v − m x̂/Δx) (Poisson summation over the tracks, Stam 1999 eq. 22),
 // so order 0 carries |1 + ν_y Φ/Δx|² and order m ≠ 0 carries |ν_y Φ/Δx|²; the Poisson scatter adds
 // ν_y |Φ(v)|²/Δx per unit area. The generator draws each track's bumps independently, so this
-// scatter spreads over all v_x; Stam's eq. 23 shares the y_m between tracks and gets lines instead.
+// scatter spreads over all v_x; Stam 1999 eq. 23 shares the y_m between tracks and gets lines instead.
 double cd_intensity(const Evaluation& e, double xi3_value, double vx, double vy) {
     const CdParameters& cd = e.surface->cd;
     const double per_area = cd.bump_density_per_um / cd.track_spacing_um;
@@ -389,11 +389,11 @@ void record_surface(const StamSurface& surface, const Footprint& footprint, Lobe
             m["stam.bump_density_per_um"] = shortest_text(cd.bump_density_per_um);
             m["stam.bump_shape"] = cd.shape == BumpShape::flat ? "flat" : "ramp";
             warning = wide_footprint_warning(footprint, cd.track_spacing_um, "track spacing");
-            // Eq. 21 keeps the bumps to first order: overlapping bumps (ν_y b of them per bump) are not.
+            // Stam 1999 eq. 21 keeps the bumps to first order: overlapping bumps (ν_y b of them per bump) are not.
             if (cd.bump_density_per_um * cd.bump_length_um > 0.1)
                 warning += std::string(warning.empty() ? "" : "; ") + "bumps overlap (density x length " +
                            shortest_text(cd.bump_density_per_um * cd.bump_length_um) +
-                           " > 0.1): Stam's eq. 21 treats them to first order";
+                           " > 0.1): Stam 1999 eq. 21 treats them to first order";
             break;
         }
     }

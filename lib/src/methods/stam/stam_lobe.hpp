@@ -37,8 +37,8 @@ double window_lobe(const Footprint& footprint, double vx, double vy);
 // p = e^{−i2π ξ3 H/λ} over a Gaussian random field, at spatial frequency v = ψ̄/λ (µm⁻¹).
 double stam_spectral_density(const GaussianFieldParameters& surface, double g, double vx, double vy);
 
-// Φ(v) = ∫ (e^{−iκ b(s)} − 1) e^{−i2π v·s} ds of one CD bump centred at the origin (Stam 1999
-// eq. 24–25 as amplitudes), κ = 2π ξ3/λ the phase per µm of height.
+// Φ(v) = ∫ (e^{−iκ b(s)} − 1) e^{−i2π v·s} ds of one CD bump centred at the origin
+// (Stam 1999 eq. 24–25 as amplitudes), κ = 2π ξ3/λ the phase per µm of height.
 std::complex<double> cd_bump_transform(const CdParameters& cd, double phase_per_height, double vx, double vy);
 
 // J_m(z)²: the share of a sinusoidal grating's light in order m, z = 2π ξ3 A/λ.
