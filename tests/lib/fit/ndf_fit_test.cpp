@@ -8,6 +8,7 @@
 #include "cli_runner.hpp"
 #include "glintscope/generate.hpp"
 #include "glintscope/ndf_fit.hpp"
+#include "glintscope/parallel.hpp"
 
 namespace glintscope {
 namespace {
@@ -44,6 +45,18 @@ TEST(NdfFit, BeckmannAndGgxFitsRecoverTheirOwnParameters) {
         EXPECT_NEAR(fit.model.parameters.alpha_x, truth.alpha_x, 0.01 * truth.alpha_x) << to_string(kind);
         EXPECT_NEAR(fit.model.parameters.alpha_y, truth.alpha_y, 0.01 * truth.alpha_y) << to_string(kind);
     }
+}
+
+TEST(NdfFit, DoesNotDependOnTheThreadCount) {
+    const LobeImage ndf = model_ndf_image({NdfModelKind::ellipsoid, {0.3, 0.1, 0.1, 0.05, 0.3}}, 160);
+    set_thread_count(1);
+    const NdfFit one = fit_ndf(ndf, NdfModelKind::ellipsoid);
+    set_thread_count(3);
+    const NdfFit three = fit_ndf(ndf, NdfModelKind::ellipsoid);
+    set_thread_count(0);
+    EXPECT_EQ(one.relative_error, three.relative_error);
+    EXPECT_EQ(one.evaluations, three.evaluations);
+    EXPECT_EQ(one.model.parameters.theta_z, three.model.parameters.theta_z);
 }
 
 // The exact P-NDF of a brushed field (the builtin's recipe on a 256² tile, grooves 64 µm long):
