@@ -14,6 +14,7 @@ namespace glintscope::cli {
 namespace {
 
 struct FitSettings {
+    std::string family;
     std::string input;
     std::string output;
     std::string image;
@@ -51,11 +52,14 @@ void run_fit(const FitSettings& settings) {
 }  // namespace
 
 void add_fit_command(CLI::App& app) {
-    CLI::App* fit = app.add_subcommand("fit", "Fit parametric models to outputs");
-    fit->require_subcommand(1);
-    CLI::App* command = fit->add_subcommand(
-        "ellipsoid", "Fit the ellipsoid NDF (Dong 2015 eq. 10), Beckmann and GGX to an NDF image by least squares over the projected disk");
+    // One positional names the family ("ellipsoid" fits it and its special cases), so that the
+    // whole command, options included, is one --help page.
+    CLI::App* command = app.add_subcommand(
+        "fit", "Fit the ellipsoid NDF (Dong 2015 eq. 10), Beckmann and GGX to an NDF image by least squares over the projected disk");
     auto settings = std::make_shared<FitSettings>();
+    command->add_option("family", settings->family, "What to fit: ellipsoid (the only family so far)")
+        ->required()
+        ->check(CLI::IsMember({"ellipsoid"}));
     command->add_option("ndf", settings->input, "NDF image (EXR written by 'glintscope ndf')")->required();
     command->add_option("-o,--output", settings->output, "JSON report: parameters (angles in degrees) and relative errors")
         ->required();

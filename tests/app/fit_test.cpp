@@ -58,6 +58,21 @@ TEST(FitCommand, UnknownModelIsAOneLineError) {
     EXPECT_EQ(result.exit_code, 1);
     EXPECT_NE(result.output.find("--models: unknown model 'phong'"), std::string::npos) << result.output;
     EXPECT_EQ(testing::count_entries(directory.path()), 1);  // nothing written
+
+    const auto family = run_cli({"fit", "elipsoid", directory.file("ndf.exr"), "-o", directory.file("fit.json")});
+    EXPECT_EQ(family.exit_code, 2) << family.output;  // a usage error
+    EXPECT_NE(family.output.find("family"), std::string::npos) << family.output;
+}
+
+TEST(FitCommand, RefusesABrdfImage) {
+    TemporaryDirectory directory;
+    LobeImage brdf = model_ndf_image({NdfModelKind::ggx, {0.2, 0.2, 0, 0, 0}}, 32);
+    brdf.quantity = Quantity::brdf;
+    write_lobe_exr(brdf, directory.file("brdf.exr"), {});
+    const auto result = run_cli({"fit", "ellipsoid", directory.file("brdf.exr"), "-o", directory.file("fit.json")});
+    EXPECT_EQ(result.exit_code, 1);
+    EXPECT_NE(result.output.find("ndf image"), std::string::npos) << result.output;
+    EXPECT_EQ(testing::count_entries(directory.path()), 1);
 }
 
 }  // namespace

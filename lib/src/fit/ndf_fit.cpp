@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <type_traits>
+
 #include <nlohmann/json.hpp>
 
 #include "fit/ellipsoid_frame.hpp"
