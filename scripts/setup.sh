@@ -9,6 +9,7 @@ packages=(
   g++ make cmake pkg-config
   libopenimageio-dev libopenexr-dev libfftw3-dev libcli11-dev libopencolorio-dev
   libzip-dev libpugixml-dev nlohmann-json3-dev libtomlplusplus-dev parallel python3-matplotlib libgtest-dev libgmock-dev libbenchmark-dev
+  libnlopt-dev
   fonts-dejavu-core
 )
 
