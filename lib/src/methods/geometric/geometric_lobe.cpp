@@ -8,6 +8,7 @@
 #include "numerics/disk_table.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/material.hpp"
+#include "glintscope/ndf_fit.hpp"
 #include "glintscope/parallel.hpp"
 #include "glintscope/text_format.hpp"
 #include "methods/filtered/filtered_ndf.hpp"
@@ -16,9 +17,11 @@
 namespace glintscope {
 namespace {
 
+enum class Shadowing { none, smith, ellipsoid };
+
 struct GeometricSettings {
     bool filtered = false;
-    bool smith = false;
+    Shadowing shadowing = Shadowing::none;
     int ndf_oversampling = 4;
     double filter_sigma_um = 1.0;
     NormalDensitySettings density;
@@ -31,9 +34,10 @@ GeometricSettings read_settings(const LobeQuery& query) {
     if (ndf != "pndf" && ndf != "filtered") throw Error("option ndf must be pndf or filtered, got '" + ndf + "'");
     settings.filtered = ndf == "filtered";
     const std::string shadowing = method_option_text(query, "shadowing", "none");
-    if (shadowing != "none" && shadowing != "smith")
-        throw Error("option shadowing must be none or smith, got '" + shadowing + "'");
-    settings.smith = shadowing == "smith";
+    if (shadowing == "smith") settings.shadowing = Shadowing::smith;
+    else if (shadowing == "ellipsoid") settings.shadowing = Shadowing::ellipsoid;
+    else if (shadowing != "none")
+        throw Error("option shadowing must be none, smith or ellipsoid, got '" + shadowing + "'");
     settings.ndf_oversampling = method_option_integer(query, "ndf_oversampling", settings.ndf_oversampling, 1, 4);
     settings.filter_sigma_um = filter_sigma_um(query);
     return settings;
@@ -59,15 +63,24 @@ DiskTable density_table(const LobeQuery& query, const GeometricSettings& setting
 constexpr int kSmithDirections = 64;
 constexpr int kSmithNormals = 128;
 
-DiskTable smith_table(const DiskTable& density) {
-    // The NDF summed down to at most kSmithNormals² pixels (masses add, so Σ D dA is kept).
-    const int factor = std::max(1, density.resolution / kSmithNormals);
-    const int coarse = density.resolution / factor;
-    std::vector<double> mass(static_cast<std::size_t>(coarse) * coarse, 0.0);
+// The NDF summed down to at most `limit`² pixels, as pixel masses (masses add, so Σ D dA is kept).
+DiskTable coarse_masses(const DiskTable& density, int limit) {
+    const int factor = std::max(1, density.resolution / limit);
+    DiskTable coarse;
+    coarse.resolution = density.resolution / factor;
+    coarse.values.assign(static_cast<std::size_t>(coarse.resolution) * coarse.resolution, 0.0);
     const double fine_area = disk_pixel_area(density.resolution);
-    for (int r = 0; r < coarse * factor; ++r)
-        for (int c = 0; c < coarse * factor; ++c)
-            mass[static_cast<std::size_t>(r / factor) * coarse + c / factor] += density.pixel(r, c) * fine_area;
+    for (int r = 0; r < coarse.resolution * factor; ++r)
+        for (int c = 0; c < coarse.resolution * factor; ++c)
+            coarse.values[static_cast<std::size_t>(r / factor) * coarse.resolution + c / factor] +=
+                density.pixel(r, c) * fine_area;
+    return coarse;
+}
+
+DiskTable smith_table(const DiskTable& density) {
+    const DiskTable masses = coarse_masses(density, kSmithNormals);
+    const int coarse = masses.resolution;
+    const std::vector<double>& mass = masses.values;
     DiskTable g1;
     g1.resolution = kSmithDirections;
     g1.extend_edges = true;
@@ -95,12 +108,33 @@ DiskTable smith_table(const DiskTable& density) {
     return g1;
 }
 
+// Dong 2015 §8: the ellipsoid NDF fitted to the tabulated one (at most 256², where the fit takes
+// well under a second), for its closed-form shadowing-masking (eq. 13-14).
+NdfFit ellipsoid_fit(const DiskTable& density) {
+    const DiskTable masses = coarse_masses(density, 256);
+    LobeImage image = make_lobe_image(masses.resolution, {0.5}, Quantity::ndf);
+    const double area = disk_pixel_area(masses.resolution);
+    for (std::size_t k = 0; k < masses.values.size(); ++k) image.values[k] = static_cast<float>(masses.values[k] / area);
+    return fit_ndf(image, NdfModelKind::ellipsoid);
+}
+
 LobeImage geometric_lobe(const LobeQuery& query) {
     const GeometricSettings settings = read_settings(query);
     const DiskTable density = density_table(query, settings);
-    const DiskTable smith_g1 = settings.smith ? smith_table(density) : DiskTable{};
+    const bool smith = settings.shadowing == Shadowing::smith;
+    const DiskTable smith_g1 = smith ? smith_table(density) : DiskTable{};
+    const NdfFit ellipsoid = settings.shadowing == Shadowing::ellipsoid ? ellipsoid_fit(density) : NdfFit{};
     const Vec3 omega_i = query.omega_i;
-    const double g1_i = settings.smith ? smith_g1.at(omega_i.x, omega_i.y) : 1.0;
+    const double g1_i = smith ? smith_g1.at(omega_i.x, omega_i.y) : 1.0;
+    const auto shadowing = [&](DiskPoint p, Vec3 omega_o, Vec3 h) {
+        switch (settings.shadowing) {
+            case Shadowing::none: return 1.0;
+            case Shadowing::smith: return g1_i * smith_g1.at(p.x, p.y);
+            case Shadowing::ellipsoid:
+                return ellipsoid_shadowing_masking(ellipsoid.model.parameters, omega_i, omega_o, h);  // Dong 2015 eq. 13
+        }
+        return 1.0;
+    };
     LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
     const bool has_material = !query.material.name.empty();
     for (std::size_t l = 0; l < query.wavelengths_um.size(); ++l) {
@@ -110,12 +144,17 @@ LobeImage geometric_lobe(const LobeQuery& query) {
             const Vec3 omega_o = direction_from_disk(p.x, p.y);
             const Vec3 h = normalize(omega_i + omega_o);
             const double fresnel = has_material ? fresnel_conductor(eta, dot(omega_i, h)) : 1.0;
-            const double shadowing = settings.smith ? g1_i * smith_g1.at(p.x, p.y) : 1.0;
-            return fresnel * density.at(h.x, h.y) * shadowing / (4.0 * omega_i.z * omega_o.z);  // Dong 2015 eq. 1
+            return fresnel * density.at(h.x, h.y) * shadowing(p, omega_o, h) /
+                   (4.0 * omega_i.z * omega_o.z);  // Dong 2015 eq. 1
         });
     }
     image.metadata["geometric.ndf"] = settings.filtered ? "filtered" : "pndf";
-    image.metadata["geometric.shadowing"] = settings.smith ? "smith" : "none";
+    image.metadata["geometric.shadowing"] = method_option_text(query, "shadowing", "none");
+    if (settings.shadowing == Shadowing::ellipsoid) {
+        const EllipsoidNdf& e = ellipsoid.model.parameters;
+        image.metadata["geometric.ellipsoid"] = join_numbers({e.alpha_x, e.alpha_y, e.theta_x, e.theta_y, e.theta_z});
+        image.metadata["geometric.ellipsoid_relative_error"] = shortest_text(ellipsoid.relative_error);
+    }
     image.metadata["geometric.ndf_resolution"] = std::to_string(density.resolution);
     image.metadata["geometric.refinement"] = std::to_string(settings.density.refinement);
     if (settings.filtered) image.metadata["geometric.filter_sigma_um"] = shortest_text(settings.filter_sigma_um);
@@ -132,7 +171,8 @@ MethodEntry geometric_method() {
     entry.info.quantities = {Quantity::brdf};
     entry.info.ignored = {QueryField::model};
     entry.info.options = {{"ndf", "pndf or filtered (default pndf)"},
-                          {"shadowing", "none or smith: Smith G1(i) G1(o) for the measured NDF (default none)"},
+                          {"shadowing", "none, smith (Smith G1(i) G1(o) of the measured NDF) or ellipsoid (Dong 2015 eq. 13-14 "
+                                        "of the ellipsoid fitted to it) (default none)"},
                           {"ndf_oversampling", "internal NDF resolution per lobe pixel, 1-4 (default 4)"},
                           {"filter_sigma", "plane-fit window sigma_f of the filtered NDF, a length (default 1um)"}};
     for (const MethodOption& option : normal_density_options()) entry.info.options.push_back(option);
