@@ -29,6 +29,7 @@ struct Manifest {
     std::string output;  // the figure's PNG, relative to the manifest's folder unless absolute
     SharedExposure exposure = SharedExposure::per_row;
     bool log_scale = false;  // scale = "log": panels on a log scale (NDFs with sharp folds)
+    bool insets = false;     // insets = true: each row's heightfield with its footprint on the left
     std::vector<std::string> row_labels;
     std::vector<std::string> column_labels;
     std::vector<ManifestPanel> panels;  // row-major

@@ -22,6 +22,12 @@ void write_lobe_picture(const LobeImage& lobe, const std::string& path, const Lo
 
 enum class SharedExposure { per_panel, per_row, whole_figure };
 
+// A row's heightfield drawn beside its panels, with the footprint of its queries.
+struct HeightInset {
+    const Heightfield* field = nullptr;  // nullptr: no inset for this row
+    Footprint footprint;
+};
+
 struct Figure {
     std::string title;
     std::string caption;                               // a line under the grid (the exposure rule is added)
@@ -29,6 +35,7 @@ struct Figure {
     std::vector<std::string> row_labels;
     std::vector<std::vector<const LobeImage*>> cells;  // [row][column]; nullptr leaves a cell empty
     SharedExposure exposure = SharedExposure::per_row;
+    std::vector<HeightInset> insets;                   // per row; empty: no inset column
 };
 
 // A heightfield in map view (+x right, +y up), colour-mapped, with a colour bar of heights in µm,

@@ -107,6 +107,13 @@ void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchRe
     figure.cells.assign(manifest.row_labels.size(), std::vector<const LobeImage*>(manifest.column_labels.size()));
     for (std::size_t k = 0; k < manifest.panels.size(); ++k)
         figure.cells[manifest.panels[k].row][manifest.panels[k].column] = &images[k];
+    // Insets: each row's heightfield with the footprint of its first panel.
+    std::vector<LobeQuery> row_queries;
+    if (manifest.insets) {
+        for (std::size_t r = 0; r < manifest.row_labels.size(); ++r)
+            row_queries.push_back(make_query(manifest.panels[r * manifest.column_labels.size()].query));
+        for (const LobeQuery& query : row_queries) figure.insets.push_back({query.field.get(), query.footprint});
+    }
     result.figure_path = figure_path(manifest).string();
     LobeOutputOptions figure_output = output;
     figure_output.colour.log_scale = figure_output.colour.log_scale || manifest.log_scale;

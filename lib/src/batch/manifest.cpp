@@ -142,7 +142,15 @@ bool parse_log_scale(const std::string& path, const toml::table& root) {
     fail(path, root.get("scale")->source(), "scale", "'" + text + "' is not linear or log");
 }
 
-const std::vector<std::string> kTopKeys = {"title", "caption", "output", "exposure", "scale", "defaults", "row", "column"};
+bool boolean_value(const std::string& path, const toml::table& root, const std::string& key) {
+    const toml::node* node = root.get(key);
+    if (!node) return false;
+    if (!node->is_boolean()) fail(path, node->source(), key, "expected true or false");
+    return node->as_boolean()->get();
+}
+
+const std::vector<std::string> kTopKeys = {"title",  "caption",  "output", "exposure", "scale",
+                                           "insets", "defaults", "row",    "column"};
 
 }  // namespace
 
@@ -164,6 +172,7 @@ Manifest load_manifest(const std::string& path) {
     if (!manifest.output.ends_with(".png")) fail(path, root.get("output")->source(), "output", "the figure must be a .png");
     manifest.exposure = parse_exposure(path, root);
     manifest.log_scale = parse_log_scale(path, root);
+    manifest.insets = boolean_value(path, root, "insets");
     Entry defaults;
     if (const toml::node* node = root.get("defaults")) {
         if (!node->is_table()) fail(path, node->source(), "defaults", "expected a [defaults] table");

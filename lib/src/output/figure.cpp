@@ -393,18 +393,24 @@ void draw_footprint(OIIO::ImageBuf& picture, int x0, int y0, int w, int h, const
         }
 }
 
-}  // namespace
-
-void write_height_picture(const Heightfield& field, const std::string& path, ColorMap map, const Footprint* footprint) {
-    if (file_extension(path) != "png") throw Error("cannot write '" + path + "': a PNG file name must end in .png");
-    const ScalarImage shown = resize_for_display({field.rows, field.cols, field.heights_um}, 384, 768);
+// The annotated height map: colour-mapped heights (longer side between min_side and max_side
+// pixels), axes, scale bar, colour bar, the footprint if given, and a caption line.
+OIIO::ImageBuf height_panel(const Heightfield& field, ColorMap map, const Footprint* footprint, int min_side, int max_side) {
+    const ScalarImage shown = resize_for_display({field.rows, field.cols, field.heights_um}, min_side, max_side);
     double low = INFINITY, high = -INFINITY;
     for (float h : field.heights_um)
         if (!std::isnan(h)) low = std::min(low, double(h)), high = std::max(high, double(h));
-    if (!(low <= high)) throw Error("cannot write '" + path + "': the heightfield has no valid height");
+    if (!(low <= high)) throw Error("the heightfield has no valid height");
     const int w = shown.cols, h = shown.rows;
     const int left = 70, top = 40;
-    OIIO::ImageBuf picture = blank(left + w + 2 * kMargin + kBarWidth + 80, top + h + 70);
+    std::string caption = std::to_string(field.cols) + " x " + std::to_string(field.rows) + " samples, texel " +
+                          number(field.texel_um, 4) + " um";
+    if (footprint)
+        caption += footprint->shape == FootprintShape::box
+                       ? ", box footprint " + number(footprint->size_um, 4) + " um"
+                       : ", footprint sigma_c " + number(footprint->sigma_um, 4) + " um (dashed: 3.25 sigma_c)";
+    OIIO::ImageBuf picture =
+        blank(std::max(left + w + 2 * kMargin + kBarWidth + 80, left + text_width(caption) + kMargin), top + h + 70);
     const Colour grey{kMissingGrey, kMissingGrey, kMissingGrey};
     for (int r = 0; r < h; ++r)
         for (int c = 0; c < w; ++c) {
@@ -429,14 +435,20 @@ void write_height_picture(const Heightfield& field, const std::string& path, Col
     text(picture, bar_x + kBarWidth + 4, top - 2, number(high, 4));
     text(picture, bar_x + kBarWidth + 4, top + h - kFont - 2, number(low, 4));
     text(picture, bar_x - 4, top - 24, "height [um]");
-    std::string caption = std::to_string(field.cols) + " x " + std::to_string(field.rows) + " samples, texel " +
-                          number(field.texel_um, 4) + " um";
-    if (footprint)
-        caption += footprint->shape == FootprintShape::box
-                       ? ", box footprint " + number(footprint->size_um, 4) + " um"
-                       : ", footprint sigma_c " + number(footprint->sigma_um, 4) + " um (dashed: 3.25 sigma_c)";
     text(picture, left, top + h + 44, caption);
-    write_png(picture, path, field.provenance);
+    return picture;
+}
+
+}  // namespace
+
+void write_height_picture(const Heightfield& field, const std::string& path, ColorMap map, const Footprint* footprint) {
+    if (file_extension(path) != "png") throw Error("cannot write '" + path + "': a PNG file name must end in .png");
+    try {
+        OIIO::ImageBuf picture = height_panel(field, map, footprint, 384, 768);
+        write_png(picture, path, field.provenance);
+    } catch (const Error& e) {
+        throw Error("cannot write '" + path + "': " + e.what());
+    }
 }
 
 int panel_size(int resolution) {
@@ -523,6 +535,18 @@ void write_figure(const Figure& figure, const std::string& path, const LobeOutpu
             cell_width = std::max(cell_width, panels[r].back().spec().width);
             cell_height = std::max(cell_height, panels[r].back().spec().height);
         }
+    // Heightfield insets: one more column on the left, each row's surface with its footprint.
+    const bool insets = std::any_of(figure.insets.begin(), figure.insets.end(),
+                                    [](const HeightInset& inset) { return inset.field != nullptr; });
+    std::vector<OIIO::ImageBuf> inset_panels;
+    int inset_width = 0;
+    if (insets)
+        for (const HeightInset& inset : figure.insets) {
+            inset_panels.push_back(inset.field ? height_panel(*inset.field, ColorMap::viridis, &inset.footprint,
+                                                              cell_height / 2, cell_height - 120)
+                                               : blank(1, 1));
+            inset_width = std::max(inset_width, inset_panels.back().spec().width);
+        }
     int label_width = 0;
     for (const std::string& label : figure.row_labels) label_width = std::max(label_width, text_width(label) + 2 * kMargin);
     const int title_height = figure.title.empty() ? kMargin : kFont + 4 + 2 * kMargin;
@@ -531,18 +555,22 @@ void write_figure(const Figure& figure, const std::string& path, const LobeOutpu
                            : figure.exposure == SharedExposure::per_row   ? "one exposure per row"
                                                                           : "one exposure for the whole figure";
     const std::string caption = figure.caption.empty() ? rule : figure.caption + "; " + rule;
-    const int width = std::max(label_width + int(columns) * cell_width, 2 * kMargin + text_width(caption));
+    const int width = std::max(label_width + inset_width + int(columns) * cell_width, 2 * kMargin + text_width(caption));
     const int height = title_height + header_height + int(figure.cells.size()) * cell_height + kFont + 3 * kMargin;
     OIIO::ImageBuf canvas = blank(width, height);
     text(canvas, width / 2, kMargin, figure.title, kBlack, OIIO::ImageBufAlgo::TextAlignX::Center, kFont + 4);
+    if (insets)
+        text(canvas, label_width + inset_width / 2, title_height + kMargin / 2, "heightfield and footprint", kBlack,
+             OIIO::ImageBufAlgo::TextAlignX::Center);
     for (std::size_t c = 0; c < figure.column_labels.size() && c < columns; ++c)
-        text(canvas, label_width + int(c) * cell_width + cell_width / 2, title_height + kMargin / 2,
+        text(canvas, label_width + inset_width + int(c) * cell_width + cell_width / 2, title_height + kMargin / 2,
              figure.column_labels[c], kBlack, OIIO::ImageBufAlgo::TextAlignX::Center);
     for (std::size_t r = 0; r < figure.cells.size(); ++r) {
         const int y = title_height + header_height + int(r) * cell_height;
         if (r < figure.row_labels.size()) text(canvas, kMargin, y + cell_height / 2 - kFont, figure.row_labels[r]);
+        if (r < inset_panels.size()) paste(canvas, inset_panels[r], label_width, y);
         for (std::size_t c = 0; c < columns; ++c)
-            if (figure.cells[r][c]) paste(canvas, panels[r][c], label_width + int(c) * cell_width, y);
+            if (figure.cells[r][c]) paste(canvas, panels[r][c], label_width + inset_width + int(c) * cell_width, y);
     }
     text(canvas, kMargin, height - kFont - 2 * kMargin, caption);
     write_png(canvas, path);

@@ -136,6 +136,34 @@ TEST(Batch, MalformedManifestsNameFileLineAndKey) {
     EXPECT_NE(manifest_error(head + column + "method = \"pndf\"\n").find("does not compute brdf"), std::string::npos);
 }
 
+TEST(Batch, InsetsAddAHeightfieldColumnWithTheFootprintDrawn) {
+    // The same figure with insets = true: one more column to the left of the panels, holding the
+    // row's heightfield (viridis, not grey) with the footprint's magenta circle at its centre;
+    // nothing is recomputed for it.
+    TemporaryDirectory directory;
+    const BatchResult plain = run_batch(load_manifest(small_manifest(directory)), {}, {});
+    // Kept under another name: the second run rewrites the figure (and OpenImageIO caches by name).
+    std::filesystem::copy_file(plain.figure_path, directory.file("plain.png"));
+    std::string text = read_bytes(directory.file("figure.toml"));
+    write_file(directory.file("figure.toml"), "insets = true\n" + text);
+    const BatchResult inset = run_batch(load_manifest(directory.file("figure.toml")), {}, {});
+    EXPECT_EQ(inset.computed, 0u);
+    OIIO::ImageBuf before(directory.file("plain.png")), after(inset.figure_path);
+    ASSERT_TRUE(before.read() && after.read());
+    EXPECT_GT(after.spec().width, before.spec().width + 100);
+    EXPECT_EQ(after.spec().height, before.spec().height);
+    int magenta = 0;
+    for (int y = 0; y < after.spec().height; ++y)
+        for (int x = 0; x < after.spec().width - before.spec().width; ++x) {
+            float pixel[3];
+            after.getpixel(x, y, pixel, 3);
+            if (pixel[0] > 0.9f && pixel[1] < 0.3f && pixel[2] > 0.4f && pixel[2] < 0.7f) ++magenta;
+        }
+    EXPECT_GT(magenta, 20);  // the footprint circles of both rows
+    EXPECT_NE(manifest_error("insets = \"yes\"\noutput = \"f.png\"\n").find("m.toml:1: key 'insets': expected true or false"),
+              std::string::npos);
+}
+
 // The label text is drawn: the figure with labels differs from the one without exactly where the
 // label's rendered text lies (its width as OpenImageIO measures the text alone).
 TEST(Figure, LabelsAreDrawnWhereAndAsWideAsTheTextAlone) {
