@@ -53,7 +53,7 @@ Xi3Slices choose_xi3_slices(DiffractionModel model, const FootprintSamples& samp
     const double nodes_per_unit = std::ceil(1.0 / std::min(spacing, 1.0));
     const double needed = (xi3_max - xi3_min) * nodes_per_unit + 4.0;
     if (!(needed <= max_count && nodes_per_unit <= max_count))
-        throw Error("fft: interpolating xi3 within phase_error " + shortest_text(phase_error) + " needs " +
+        throw Error("interpolating xi3 within phase_error " + shortest_text(phase_error) + " needs " +
                     std::to_string(static_cast<long long>(std::fmin(needed, 1e15))) + " transforms (more than " +
                     std::to_string(max_count) + "); raise phase_error or use a smoother surface");
     slices.nodes_per_unit = static_cast<int>(nodes_per_unit);

@@ -11,7 +11,10 @@
 #include "gabor_kernels.hpp"
 #include "gabor_product.hpp"
 #include "gabor.hpp"
+#include "glintscope/error.hpp"
 #include "glintscope/parallel.hpp"
+#include "glintscope/text_format.hpp"
+#include "optics/xi3_slices.hpp"
 
 namespace glintscope {
 namespace {
@@ -19,31 +22,16 @@ namespace {
 using gabor::KernelArrays;
 using gabor::KernelGrid;
 
-constexpr double kPi = std::numbers::pi;
-constexpr int kBlockKernels = 8;                     // footprint kernels per block side (per-pixel pruning)
+constexpr int kBlockKernels = 8;                     // kernels gathered in blocks of this side (their order)
 constexpr double kPanelTableBytes = 256.0 * (1 << 20);  // transform tables of one panel of the image
-
-std::string format_number(double value) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.10g", value);
-    return buffer;
-}
+constexpr int kMaxXi3Nodes = 512;
 
 // ---- The footprint's kernels -----------------------------------------------------------------
 
-// The kernels inside the coherence window, block by block (kBlockKernels² cells of the kernel
-// grid), each block with the range of H' over its kernels for directional pruning.
+// The kernels inside the coherence window, gathered block by block (kBlockKernels² cells of the
+// kernel grid), which fixes their order and so the rounding of every sum over them.
 struct FootprintKernels {
-    struct Block {
-        std::size_t begin = 0;
-        std::size_t end = 0;
-        double x_min = 0.0;
-        double x_max = 0.0;
-        double y_min = 0.0;
-        double y_max = 0.0;
-    };
     KernelArrays arrays;
-    std::vector<Block> blocks;
 };
 
 // Kernel indices i with centre (i + ½) l in [centre − extent, centre + extent].
@@ -64,7 +52,6 @@ FootprintKernels gather_kernels(const BicubicInterpolant& surface, const KernelG
     std::vector<SurfacePoint> row(kBlockKernels);
     for (long long bj = j0; bj <= j1; bj += kBlockKernels)
         for (long long bi = i0; bi <= i1; bi += kBlockKernels) {
-            FootprintKernels::Block block{kernels.arrays.size(), 0, 1e300, -1e300, 1e300, -1e300};
             for (long long j = bj; j <= std::min(j1, bj + kBlockKernels - 1); ++j) {
                 const double py = grid.centre(j) - centre.y;
                 long long first = 0;
@@ -78,14 +65,8 @@ FootprintKernels gather_kernels(const BicubicInterpolant& surface, const KernelG
                     const double px = grid.centre(first + k) - centre.x;
                     const SurfacePoint& p = row[k];
                     kernels.arrays.push(px, py, p, reference_height, window.weight(px, py) * weight_scale);
-                    block.x_min = std::min(block.x_min, p.dh_dx);
-                    block.x_max = std::max(block.x_max, p.dh_dx);
-                    block.y_min = std::min(block.y_min, p.dh_dy);
-                    block.y_max = std::max(block.y_max, p.dh_dy);
                 }
             }
-            block.end = kernels.arrays.size();
-            if (block.end > block.begin) kernels.blocks.push_back(block);
         }
     return kernels;
 }
@@ -115,6 +96,7 @@ struct LayerSetup {
     double lambda_um;
     gabor::FresnelAtWavelength fresnel;
     SampleGrid samples;
+    double phase_error;  // ξ3 interpolation bound (xi3_slices.hpp)
 };
 
 gabor::TransformPoint transform_at(const LayerSetup& layer, DiskPoint p) {
@@ -122,28 +104,7 @@ gabor::TransformPoint transform_at(const LayerSetup& layer, DiskPoint p) {
                                   layer.lambda_um, layer.area_um2);
 }
 
-// ---- GHS, R-GHS, Kirchhoff: sample by sample over pruned kernel blocks ----------------------
-
-void per_sample_layer(const LayerSetup& layer, const FootprintKernels& kernels, std::vector<double>& sums) {
-    const SampleGrid& samples = layer.samples;
-    const int m = samples.size();
-    parallel_for(m, 1, [&](std::size_t begin, std::size_t end) {
-        for (int row = static_cast<int>(begin); row < static_cast<int>(end); ++row)
-            for (int col = 0; col < m; ++col) {
-                const DiskPoint p = samples.point(row, col);
-                if (!inside_unit_disk(p)) continue;
-                const gabor::TransformPoint point = transform_at(layer, p);
-                std::complex<double> field = 0.0;
-                for (const FootprintKernels::Block& block : kernels.blocks)
-                    if (gabor::slopes_reach(point.vx, point.vy, point.xi3_over_lambda, layer.grid.reach, block.x_min,
-                                            block.x_max, block.y_min, block.y_max))
-                        field += gabor::sum_transforms(kernels.arrays, block.begin, block.end, point, layer.grid);
-                sums[static_cast<std::size_t>(row) * m + col] = point.brdf_scale * std::norm(field);  // eq. 16–17
-            }
-    });
-}
-
-// ---- OHS, R-OHS: banded complex matrix product ------------------------------------------------
+// ---- Banded complex matrix products, one per ξ3 node ------------------------------------------
 
 // Samples along one image axis: the disk coordinate of sample m and the ω_i component added to it.
 struct AxisSamples {
@@ -224,12 +185,12 @@ void fill_axis(const AxisSamples& axis, double lambda, const KernelGrid& grid, d
     const double dv = axis.step() / lambda;
     const double turns = p * v - std::nearbyint(p * v);
     const std::complex<double> start = factor * std::exp(-grid.beta * u * u) *
-                                       std::complex<double>(std::cos(2 * kPi * turns), -std::sin(2 * kPi * turns));
+                                       std::complex<double>(std::cos(2 * pi * turns), -std::sin(2 * pi * turns));
     double re = start.real();
     double im = start.imag();
     const double ratio_scale = std::exp(-grid.beta * (2.0 * u * dv + dv * dv));
-    double ratio_re = ratio_scale * std::cos(2 * kPi * p * dv);
-    double ratio_im = -ratio_scale * std::sin(2 * kPi * p * dv);
+    double ratio_re = ratio_scale * std::cos(2 * pi * p * dv);
+    double ratio_im = -ratio_scale * std::sin(2 * pi * p * dv);
     const double ratio_change = std::exp(-2.0 * grid.beta * dv * dv);
     for (int m = first; m < first + count; ++m) {
         const int i = m - table.first_sample;
@@ -266,93 +227,216 @@ void fill_axis_table(const AxisSamples& axis, double lambda, const KernelGrid& g
     });
 }
 
-// U over one tile of samples (kTileRows × kTileCols at row0, col0, clipped to the panel's tables),
-// then f_r = ξ1/A_c |U|² at the samples inside the disk.
-void product_tile(const LayerSetup& layer, const AxisTable& along_x, const AxisTable& along_y, int row0, int col0,
-                  std::vector<double>& sums) {
-    const SampleGrid& samples = layer.samples;
-    const int rows = std::min(gabor::kTileRows, along_y.first_sample + along_y.count - row0);
-    const int cols = std::min(gabor::kTileCols, along_x.first_sample + along_x.count - col0);
-    // Tiles wholly outside the unit disk stay 0.
-    const double x_near = std::clamp(0.0, samples.x(col0), samples.x(col0 + cols - 1));
-    const double y_near = std::clamp(0.0, samples.y(row0 + rows - 1), samples.y(row0));
-    if (x_near * x_near + y_near * y_near >= 1.0) return;
+// The ξ3 of every sample and the ξ3 nodes whose products it needs (Xi3Slices, as the FFT method:
+// R̃* is linear in R*, and each kernel's term is smooth in ξ3, so a sample interpolates the
+// products of its four nearest nodes with Lagrange weights).
+struct NodePlan {
+    Xi3Slices slices;
+    std::vector<double> xi3_at;  // per sample (0 outside the disk)
+};
 
-    const int row_block = (row0 - along_y.first_sample) / gabor::kTileRows;
+// Whether the sample at index i (inside the disk) gives `node` a non-zero weight.
+bool sample_needs_node(const NodePlan& plan, int node, std::size_t i) {
+    if (!plan.slices.nodes_per_unit) return true;
+    const double xi3 = plan.xi3_at[i];
+    return plan.slices.lowest_node(xi3) <= node && node <= plan.slices.highest_node(xi3);
+}
+
+// U_c = Σ_k coefficient_c,k X_k(v_x) Y_k(v_y) over one tile of samples (kTileRows × kTileCols at
+// row0, col0, clipped to the panel's tables), written into u (one complex image per component),
+// computed only in the register blocks that hold a sample inside the disk which needs the node.
+void product_tile(const SampleGrid& samples, const NodePlan& plan, int node, const AxisTable& along_x,
+                  const std::vector<AxisTable>& along_y, int row0, int col0,
+                  std::vector<std::vector<std::complex<double>>>& u) {
+    const int rows = std::min(gabor::kTileRows, along_y[0].first_sample + along_y[0].count - row0);
+    const int cols = std::min(gabor::kTileCols, along_x.first_sample + along_x.count - col0);
+    const int row_block = (row0 - along_y[0].first_sample) / gabor::kTileRows;
     const int col_block = (col0 - along_x.first_sample) / gabor::kTileCols;
-    std::vector<const float*> a_blocks;
-    std::vector<const float*> b_blocks;
-    for (std::size_t k = 0; k < along_x.kernels; ++k)
-        if (along_x.band_meets(k, col0, cols) && along_y.band_meets(k, row0, rows)) {
-            a_blocks.push_back(along_y.block(k, row_block));
-            b_blocks.push_back(along_x.block(k, col_block));
-        }
     // Register blocks with a sample inside the disk (and the panel).
+    const int m = samples.size();
     bool wanted[gabor::kBlocksPerTile] = {};
     for (int r = 0; r < rows; ++r)
         for (int c = 0; c < cols; ++c)
-            if (samples.inside_disk(row0 + r, col0 + c))
+            if (samples.inside_disk(row0 + r, col0 + c) &&
+                sample_needs_node(plan, node, static_cast<std::size_t>(row0 + r) * m + col0 + c))
                 wanted[(r / gabor::kBlockRows) * (gabor::kTileCols / gabor::kBlockCols) + c / gabor::kBlockCols] = true;
-    std::vector<double> u_re(gabor::kTileRows * gabor::kTileCols, 0.0);
-    std::vector<double> u_im(u_re.size(), 0.0);
-    gabor::accumulate_tile(a_blocks.data(), b_blocks.data(), static_cast<int>(a_blocks.size()), wanted, u_re.data(),
-                           u_im.data());
-    const int m = samples.size();
-    for (int r = 0; r < rows; ++r)
-        for (int c = 0; c < cols; ++c) {
-            const DiskPoint p = samples.point(row0 + r, col0 + c);
-            if (!inside_unit_disk(p)) continue;
-            const std::size_t i = static_cast<std::size_t>(r) * gabor::kTileCols + c;
-            const double intensity = u_re[i] * u_re[i] + u_im[i] * u_im[i];
-            sums[static_cast<std::size_t>(row0 + r) * m + col0 + c] = transform_at(layer, p).brdf_scale * intensity;
-        }
+    std::vector<double> u_re(gabor::kTileRows * gabor::kTileCols), u_im(u_re.size());
+    std::vector<const float*> a_blocks, b_blocks;
+    for (std::size_t component = 0; component < along_y.size(); ++component) {
+        a_blocks.clear();
+        b_blocks.clear();
+        for (std::size_t k = 0; k < along_x.kernels; ++k)
+            if (along_x.band_meets(k, col0, cols) && along_y[component].band_meets(k, row0, rows)) {
+                a_blocks.push_back(along_y[component].block(k, row_block));
+                b_blocks.push_back(along_x.block(k, col_block));
+            }
+        std::fill(u_re.begin(), u_re.end(), 0.0);
+        std::fill(u_im.begin(), u_im.end(), 0.0);
+        gabor::accumulate_tile(a_blocks.data(), b_blocks.data(), static_cast<int>(a_blocks.size()), wanted,
+                               u_re.data(), u_im.data());
+        for (int r = 0; r < rows; ++r)
+            for (int c = 0; c < cols; ++c) {
+                const std::size_t t = static_cast<std::size_t>(r) * gabor::kTileCols + c;
+                u[component][static_cast<std::size_t>(row0 + r) * m + col0 + c] = {u_re[t], u_im[t]};
+            }
+    }
+}
+
+// Whether a tile has a sample inside the disk whose ξ3 gives `node` a weight. ξ3 = ψ_z grows
+// as the sample nears the disk centre, so the tile's range is that of its nearest and farthest
+// points from it.
+bool tile_needs_node(const LayerSetup& layer, const NodePlan& plan, int node, int row0, int col0, int rows, int cols) {
+    const SampleGrid& samples = layer.samples;
+    const double x0 = samples.x(col0), x1 = samples.x(col0 + cols - 1);
+    const double y0 = samples.y(row0 + rows - 1), y1 = samples.y(row0);
+    const double near_x = std::clamp(0.0, x0, x1), near_y = std::clamp(0.0, y0, y1);
+    if (near_x * near_x + near_y * near_y >= 1.0) return false;  // wholly outside the disk
+    if (!plan.slices.nodes_per_unit) return true;
+    const double far_x = std::max(std::abs(x0), std::abs(x1)), far_y = std::max(std::abs(y0), std::abs(y1));
+    const double far2 = std::min(1.0, far_x * far_x + far_y * far_y);
+    const double wz = layer.query.omega_i.z;
+    const double xi3_high = wz + std::sqrt(1.0 - (near_x * near_x + near_y * near_y));  // Yan 2018 Fig. 6: ψ·n
+    const double xi3_low = wz + std::sqrt(1.0 - far2);
+    return plan.slices.lowest_node(xi3_low) <= node && node <= plan.slices.highest_node(xi3_high);
 }
 
 struct ProductTables {
     AxisTable along_x;
-    AxisTable along_y;
+    std::vector<AxisTable> along_y;  // one per component: U, and for Kirchhoff U_x and U_y
 };
 
-void product_layer(const LayerSetup& layer, const FootprintKernels& kernels, ProductTables& tables,
-                   std::vector<double>& sums) {
+// Adds to `field` the node's U (Kirchhoff: U − (g_x U_x + g_y U_y), ξ2 = 1 − g·H' being affine in
+// H', Yan 2018 Fig. 6) at every sample of the tiles that need it, times its interpolation weight.
+void add_node(const LayerSetup& layer, const FootprintKernels& kernels, const NodePlan& plan, int node,
+              double mean_height, ProductTables& tables, std::vector<std::vector<std::complex<double>>>& u,
+              std::vector<std::complex<double>>& field) {
     const KernelArrays& k = kernels.arrays;
     const std::size_t n = k.size();
-    const Vec3 wi = layer.query.omega_i;
-    // ξ3 = 2 and ξ2 = 1 for OHS and R-OHS (Fig. 6), whatever ω_o.
-    const double xi3_over_lambda = xi3(layer.query.model, wi, wi) / layer.lambda_um;
+    const double xi3_over_lambda = plan.slices.node(node) / layer.lambda_um;
+    const std::size_t components = u.size();
     std::vector<double> a_x(n), a_y(n);
-    std::vector<std::complex<double>> ones(n, 1.0), coefficients(n);
+    std::vector<std::complex<double>> ones(n, 1.0);
+    std::vector<std::vector<std::complex<double>>> coefficients(components, std::vector<std::complex<double>>(n));
     for (std::size_t i = 0; i < n; ++i) {
-        a_x[i] = xi3_over_lambda * k.slope_x[i];  // eq. 15
+        a_x[i] = xi3_over_lambda * k.slope_x[i];  // Yan 2018 eq. 15
         a_y[i] = xi3_over_lambda * k.slope_y[i];
-        const double turns = xi3_over_lambda * k.height[i];
-        coefficients[i] = k.weight[i] * std::complex<double>(std::cos(2 * kPi * turns), -std::sin(2 * kPi * turns));
+        const double turns = xi3_over_lambda * (k.height[i] - mean_height);
+        const std::complex<double> c = k.weight[i] * std::complex<double>(std::cos(2 * pi * turns), -std::sin(2 * pi * turns));
+        coefficients[0][i] = c;  // Yan 2018 eq. 14
+        if (components == 3) {
+            coefficients[1][i] = c * k.slope_x[i];
+            coefficients[2][i] = c * k.slope_y[i];
+        }
     }
     const SampleGrid& samples = layer.samples;
+    const Vec3 wi = layer.query.omega_i;
     const AxisSamples x_axis{samples, false, wi.x};
     const AxisSamples y_axis{samples, true, wi.y};
     // Panels of samples bound the table memory (8 bytes per kernel and sample on each axis); they
     // hold whole tiles and whole pixels.
     const int unit = std::lcm(gabor::kTileCols, samples.supersample);
-    const double panel_target = kPanelTableBytes / (16.0 * static_cast<double>(std::max<std::size_t>(n, 1)));
+    const double panel_target =
+        kPanelTableBytes / (8.0 * double(components + 1) * static_cast<double>(std::max<std::size_t>(n, 1)));
     const int m = samples.size();
     const int panel_size = unit * std::clamp(static_cast<int>(panel_target / unit), 1, m / unit + 1);
+    tables.along_y.resize(components);
     for (int row0 = 0; row0 < m; row0 += panel_size)
         for (int col0 = 0; col0 < m; col0 += panel_size) {
             const int rows = std::min(panel_size, m - row0);
             const int cols = std::min(panel_size, m - col0);
-            const AxisTable& along_x = tables.along_x;
-            const AxisTable& along_y = tables.along_y;
+            if (!tile_needs_node(layer, plan, node, row0, col0, rows, cols)) continue;
             fill_axis_table(x_axis, layer.lambda_um, layer.grid, k.px, a_x, ones, col0, cols, tables.along_x);
-            fill_axis_table(y_axis, layer.lambda_um, layer.grid, k.py, a_y, coefficients, row0, rows, tables.along_y);
-            const int tile_rows = along_y.blocks();
-            const int tile_cols = along_x.blocks();
+            for (std::size_t c = 0; c < components; ++c)
+                fill_axis_table(y_axis, layer.lambda_um, layer.grid, k.py, a_y, coefficients[c], row0, rows,
+                                tables.along_y[c]);
+            const int tile_rows = tables.along_y[0].blocks();
+            const int tile_cols = tables.along_x.blocks();
             parallel_for(static_cast<std::size_t>(tile_rows) * tile_cols, 1, [&](std::size_t begin, std::size_t end) {
-                for (std::size_t t = begin; t < end; ++t)
-                    product_tile(layer, along_x, along_y, row0 + static_cast<int>(t / tile_cols) * gabor::kTileRows,
-                                 col0 + static_cast<int>(t % tile_cols) * gabor::kTileCols, sums);
+                for (std::size_t t = begin; t < end; ++t) {
+                    const int r0 = row0 + static_cast<int>(t / tile_cols) * gabor::kTileRows;
+                    const int c0 = col0 + static_cast<int>(t % tile_cols) * gabor::kTileCols;
+                    const int tr = std::min(gabor::kTileRows, row0 + rows - r0);
+                    const int tc = std::min(gabor::kTileCols, col0 + cols - c0);
+                    if (!tile_needs_node(layer, plan, node, r0, c0, tr, tc)) continue;
+                    product_tile(samples, plan, node, tables.along_x, tables.along_y, r0, c0, u);
+                    for (int r = r0; r < r0 + tr; ++r)
+                        for (int c = c0; c < c0 + tc; ++c) {
+                            const DiskPoint p = samples.point(r, c);
+                            if (!inside_unit_disk(p)) continue;
+                            const std::size_t i = static_cast<std::size_t>(r) * m + c;
+                            const double weight = plan.slices.weight(node, plan.xi3_at[i]);
+                            if (weight == 0.0) continue;
+                            std::complex<double> value = u[0][i];
+                            if (components == 3) {
+                                const gabor::TransformPoint point = transform_at(layer, p);
+                                value -= point.xi2_gx * u[1][i] + point.xi2_gy * u[2][i];
+                            }
+                            field[i] += weight * value;
+                        }
+                }
             });
         }
+}
+
+// ξ3 per sample and the nodes: one (ξ3 = 2) for OHS and R-OHS; for GHS, R-GHS and Kirchhoff the
+// nodes of choose_xi3_slices for the kernels' heights about their |w|-weighted mean.
+NodePlan plan_nodes(const LayerSetup& layer, const FootprintKernels& kernels, double mean_height) {
+    NodePlan plan;
+    const LobeQuery& query = layer.query;
+    FootprintSamples heights;  // the slice chooser reads weights and heights only
+    heights.weight = kernels.arrays.weight;
+    heights.height.resize(kernels.arrays.size());
+    for (std::size_t i = 0; i < kernels.arrays.size(); ++i) heights.height[i] = kernels.arrays.height[i] - mean_height;
+    heights.weight.resize(kernels.arrays.size());
+    plan.slices = choose_xi3_slices(query.model, heights, layer.lambda_um, query.omega_i.z, query.omega_i.z + 1.0,
+                                    layer.phase_error, kMaxXi3Nodes);
+    const SampleGrid& samples = layer.samples;
+    const int m = samples.size();
+    plan.xi3_at.assign(static_cast<std::size_t>(m) * m, 0.0);
+    for (int r = 0; r < m; ++r)
+        for (int c = 0; c < m; ++c) {
+            const DiskPoint p = samples.point(r, c);
+            if (inside_unit_disk(p))
+                plan.xi3_at[static_cast<std::size_t>(r) * m + c] =
+                    xi3(query.model, query.omega_i, direction_from_disk(p.x, p.y));
+        }
+    return plan;
+}
+
+// The |w|-weighted mean kernel height: heights about it keep the phases the nodes interpolate small.
+double mean_kernel_height(const KernelArrays& k) {
+    double sum_w = 0.0, sum_wh = 0.0;
+    for (std::size_t i = 0; i < k.size(); ++i) {
+        sum_w += std::abs(k.weight[i]);
+        sum_wh += std::abs(k.weight[i]) * k.height[i];
+    }
+    return sum_w > 0.0 ? sum_wh / sum_w : 0.0;
+}
+
+// f_r = ξ1/A_c |Σ_nodes w_node U_node|² at every sample (Yan 2018 eq. 16-17).
+void product_layer(const LayerSetup& layer, const FootprintKernels& kernels, ProductTables& tables,
+                   std::vector<double>& sums, int& node_count) {
+    const bool sliced = phase_depends_on_outgoing(layer.query.model);
+    // One node: keep the heights as gathered (a constant phase per layer changes nothing but rounding).
+    const double mean_height = sliced ? mean_kernel_height(kernels.arrays) : 0.0;
+    const NodePlan plan = plan_nodes(layer, kernels, mean_height);
+    const int m = layer.samples.size();
+    const std::size_t components = layer.query.model == DiffractionModel::kirchhoff ? 3 : 1;
+    std::vector<std::vector<std::complex<double>>> u(components, std::vector<std::complex<double>>(std::size_t(m) * m));
+    std::vector<std::complex<double>> field(std::size_t(m) * m);
+    const int first = plan.slices.nodes_per_unit ? plan.slices.first : 0;
+    const int last = plan.slices.nodes_per_unit ? plan.slices.last : 0;
+    for (int node = first; node <= last; ++node) add_node(layer, kernels, plan, node, mean_height, tables, u, field);
+    node_count = last - first + 1;
+    parallel_for(m, 16, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r)
+            for (int c = 0; c < m; ++c) {
+                const DiskPoint p = layer.samples.point(static_cast<int>(r), c);
+                if (!inside_unit_disk(p)) continue;
+                const std::size_t i = r * m + c;
+                sums[i] = transform_at(layer, p).brdf_scale * std::norm(field[i]);
+            }
+    });
 }
 
 }  // namespace
@@ -363,7 +447,9 @@ LobeImage gabor_lobe(const LobeQuery& query) {
     const KernelGrid grid = gabor::kernel_grid(surface.texel_um(), settings);
     const gabor::CoherenceWindow window(query.footprint, settings.footprint_sigmas);
     const FootprintKernels kernels = gather_kernels(surface, grid, window, query.footprint.centre_um);
-    const bool per_sample = phase_depends_on_outgoing(query.model);
+    const double phase_error = method_option_number(query, "phase_error", 0.01);
+    if (!(phase_error > 0.0 && phase_error <= 1.0))
+        throw Error("option phase_error must be in (0, 1], got " + shortest_text(phase_error));
 
     LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
     const SampleGrid samples{query.resolution, query.supersample};
@@ -371,15 +457,15 @@ LobeImage gabor_lobe(const LobeQuery& query) {
     std::vector<double> sums(static_cast<std::size_t>(m) * m);
     std::vector<double> pixel_sums(static_cast<std::size_t>(query.resolution) * query.resolution);
     ProductTables tables;
+    std::vector<std::string> nodes;
     for (std::size_t layer = 0; layer < query.wavelengths_um.size(); ++layer) {
         const double lambda = query.wavelengths_um[layer];
         const gabor::FresnelAtWavelength fresnel(query.material, lambda);
-        const LayerSetup setup{query, grid, window.area_um2(), lambda, fresnel, samples};
+        const LayerSetup setup{query, grid, window.area_um2(), lambda, fresnel, samples, phase_error};
         std::fill(sums.begin(), sums.end(), 0.0);
-        if (per_sample)
-            per_sample_layer(setup, kernels, sums);
-        else
-            product_layer(setup, kernels, tables, sums);
+        int node_count = 0;
+        product_layer(setup, kernels, tables, sums, node_count);
+        nodes.push_back(std::to_string(node_count));
         // Each pixel averages its S×S samples (samples outside the disk count as 0).
         const int s = samples.supersample;
         for (int r = 0; r < query.resolution; ++r)
@@ -393,14 +479,15 @@ LobeImage gabor_lobe(const LobeQuery& query) {
     }
 
     image.metadata["gabor.kernels_per_texel"] = std::to_string(settings.kernels_per_texel);
-    image.metadata["gabor.kernel_spacing_um"] = format_number(grid.spacing_um);
-    image.metadata["gabor.kernel_sigma_um"] = format_number(grid.sigma_um);
+    image.metadata["gabor.kernel_spacing_um"] = shortest_text(grid.spacing_um);
+    image.metadata["gabor.kernel_sigma_um"] = shortest_text(grid.sigma_um);
     image.metadata["gabor.kernels"] = std::to_string(kernels.arrays.size());
     if (query.footprint.shape == FootprintShape::gaussian)
-        image.metadata["gabor.footprint_truncation_sigmas"] = format_number(settings.footprint_sigmas);
-    image.metadata["gabor.kernel_truncation_sigmas"] = format_number(settings.kernel_sigmas);
-    image.metadata["gabor.evaluation"] =
-        per_sample ? "per sample over pruned kernel blocks" : "banded separable matrix product";
+        image.metadata["gabor.footprint_truncation_sigmas"] = shortest_text(settings.footprint_sigmas);
+    image.metadata["gabor.kernel_truncation_sigmas"] = shortest_text(settings.kernel_sigmas);
+    image.metadata["gabor.xi3_nodes"] = join(nodes, ";");
+    if (phase_depends_on_outgoing(query.model)) image.metadata["gabor.phase_error"] = shortest_text(phase_error);
+    image.metadata["gabor.evaluation"] = "banded separable matrix products, one per xi3 node";
     return image;
 }
 
@@ -412,7 +499,9 @@ MethodEntry gabor_method() {
              {},
              {{"kernels_per_texel", "kernels per texel side K, an integer 1-16 (default 2)"},
               {"footprint_truncation", "drop kernels beyond this many sigma_c from the centre (default 3.25)"},
-              {"kernel_truncation", "cut each kernel's transform at this many of its sigmas (default 3)"}},
+              {"kernel_truncation", "cut each kernel's transform at this many of its sigmas (default 3)"},
+              {"phase_error", "GHS, R-GHS, Kirchhoff: xi3 interpolation error bound, in flat-mirror peak amplitudes "
+                              "(default 0.01)"}},
              true},
             gabor_lobe};
 }
