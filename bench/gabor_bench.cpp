@@ -54,6 +54,25 @@ BENCHMARK(BM_GaborImage512SixteenWavelengthsDefaultDensity)
     ->UseRealTime()
     ->Iterations(1);
 
+// Gabor against the FFT per diffraction model (range(0): ohs, ghs, rohs, rghs, kirchhoff;
+// range(1): 0 gabor, 1 fft), 256², one wavelength, 2×2 supersampling: GHS, R-GHS and Kirchhoff
+// go through ξ3 nodes in both methods.
+void BM_GaborVsFftPerModel256(benchmark::State& state) {
+    LobeQuery query = isotropic_query();
+    query.resolution = 256;
+    query.supersample = 2;
+    query.model = std::vector{DiffractionModel::ohs, DiffractionModel::ghs, DiffractionModel::rohs,
+                              DiffractionModel::rghs, DiffractionModel::kirchhoff}[state.range(0)];
+    const char* method = state.range(1) == 0 ? "gabor" : "fft";
+    state.SetLabel(to_string(query.model) + " " + method);
+    for (auto _ : state) benchmark::DoNotOptimize(compute_lobe(method, query));
+}
+BENCHMARK(BM_GaborVsFftPerModel256)
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
 // Point queries at random footprint centres and outgoing directions over the whole hemisphere;
 // state.range(0) wavelengths per query, state.range(1) kernels per texel. "per_omega_lambda" is
 // the mean time per (ω_o, λ) pair.
