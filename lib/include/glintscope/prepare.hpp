@@ -53,6 +53,9 @@ struct FillReport {
 
 // Replaces every NaN by the solution of `method` over the missing region; valid points are
 // left unchanged bit for bit. Throws Error if the field is invalid or every point is missing.
+// Degenerate data: a single valid point fills the field with its height (either method); valid
+// points all on one grid line are refused for the biharmonic fill with Tiling::none, whose
+// thin plate could tilt across the line at no energy (the harmonic fill is unique there).
 FillReport fill_missing(Heightfield& field, FillMethod method = FillMethod::biharmonic, Tiling tiling = Tiling::none);
 
 // ---- Form removal (lib/src/form_removal.cpp) -------------------------------------------

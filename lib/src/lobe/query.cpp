@@ -27,8 +27,11 @@ void validate(const LobeQuery& query) {
         if (!(lambda >= 0.1 && lambda <= 20.0))
             throw Error("wavelength " + shortest_text(lambda) + " um is outside 0.1-20 um");
     const Footprint& footprint = query.footprint;
-    if (!std::isfinite(footprint.centre_um.x) || !std::isfinite(footprint.centre_um.y))
-        throw Error("footprint centre must be finite");
+    // 1 m: far beyond any heightfield, while kernel and sample indices stay exact in double.
+    constexpr double max_centre_um = 1e6;
+    if (!(std::fabs(footprint.centre_um.x) <= max_centre_um && std::fabs(footprint.centre_um.y) <= max_centre_um))
+        throw Error("footprint centre must be finite and within +-1e6 um (1 m), got (" +
+                    shortest_text(footprint.centre_um.x) + ", " + shortest_text(footprint.centre_um.y) + ") um");
     if (footprint.shape == FootprintShape::gaussian && !(footprint.sigma_um > 0.0 && footprint.sigma_um <= 1e4))
         throw Error("coherence sigma must be between 0 and 10 mm, got " + shortest_text(footprint.sigma_um) + " um");
     if (footprint.shape == FootprintShape::box && !(footprint.size_um > 0.0 && footprint.size_um <= 1e5))
