@@ -148,6 +148,31 @@ struct ResampleReport {
 // non-positive or non-finite texels, and for results beyond 2^31 samples.
 ResampleReport resample(Heightfield& field, double texel_um, Tiling tiling = Tiling::none);
 
+// ---- Orientation (lib/src/prepare/orient.cpp) ---------------------------------------------
+
+// Mirrors and quarter turns in map view (x right, y up; docs/heightfields.md compares the
+// orientations of other tools). Applied in this order: flip_x (x → W − x, columns reversed),
+// flip_y (y → H − y, rows reversed), then rotate_degrees counter-clockwise: one quarter turn maps
+// (x, y) to (H − y, x), so sample (r, c) of the result is sample (c, cols − 1 − r) of the input.
+// Exact: the heights are moved, never interpolated, and the texel is unchanged.
+struct Orientation {
+    bool flip_x = false;
+    bool flip_y = false;
+    int rotate_degrees = 0;  // 0, 90, 180 or 270
+};
+
+struct OrientReport {
+    Orientation orientation;
+    int original_rows = 0;
+    int original_cols = 0;
+};
+
+// Throws Error for a rotation other than 0, 90, 180 or 270 degrees.
+OrientReport orient(Heightfield& field, const Orientation& orientation);
+
+// Parses "0", "90", "180" or "270"; throws Error (without option name) on anything else.
+int parse_rotation(const std::string& text);
+
 // ---- Reports -----------------------------------------------------------------------------
 
 // One line each, e.g. "fill_missing: 1234 points (0.4%), biharmonic inpainting, ..." — the
@@ -156,6 +181,7 @@ std::string describe(const FillReport& report);
 std::string describe(const FormReport& report);
 std::string describe(const CropReport& report);
 std::string describe(const ResampleReport& report);
+std::string describe(const OrientReport& report);
 
 // Appends `description` to field.provenance as the next "prepare.N" entry.
 void record_preparation(Heightfield& field, const std::string& description);
