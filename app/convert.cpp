@@ -29,7 +29,6 @@ struct ConvertSettings {
     double resample_texel_um = 0.0;
     Orientation orientation;
     std::string rotate = "0";
-    bool periodic = false;
     LoadOptions load;
 };
 
@@ -75,7 +74,7 @@ void run_convert(const ConvertSettings& settings, bool resample_given) {
     Orientation orientation = settings.orientation;
     orientation.rotate_degrees = parse_rotation(settings.rotate);
     const bool orient_given = orientation.flip_x || orientation.flip_y || orientation.rotate_degrees != 0;
-    const Tiling tiling = settings.periodic ? Tiling::periodic : Tiling::none;
+    const Tiling tiling = settings.load.periodic ? Tiling::periodic : Tiling::none;
 
     Heightfield field = load_heightfield_argument(settings.input, settings.load);
     // Printed only once everything succeeded, so that a failure is one line.
@@ -138,9 +137,6 @@ void add_convert_command(CLI::App& app) {
                           "Resample to this texel size (0.5um, 500nm; bare numbers are um): bicubic when finer, box "
                           "average then bicubic when coarser; the extent changes by less than half a texel. "
                           "Default: keep the texel");
-    command->add_flag("--periodic", settings->periodic,
-                      "The input tiles periodically (e.g. made by generate): fill and resample wrap around its "
-                      "borders. Default: a measured patch whose borders are edges");
     add_load_options(*command, settings->load);
     command->callback([settings, resample_option] { run_convert(*settings, resample_option->count() > 0); });
 }

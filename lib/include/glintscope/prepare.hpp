@@ -9,6 +9,10 @@
 // Every step changes the field in place, returns a report, and appends its one-line
 // description to field.provenance as "prepare.N" (N = 1, 2, ... in the order applied), so
 // `info` and every output's metadata show what was done.
+//
+// Heightfield::periodic: orient, fill and resample keep it (fill and resample take the matching
+// Tiling from the caller); crop to a part of the field and form removal of order >= 1 clear it,
+// since a part of a tile, or a tile minus a tilt, does not tile (their reports and provenance lines say so).
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -83,6 +87,7 @@ struct FormReport {
     double rms_removed_um = 0.0;     // rms of the subtracted form about its mean, over the valid points
     double rms_residual_um = 0.0;    // rms of what remains (about zero)
     std::size_t fitted_points = 0;
+    bool ended_periodicity = false;  // the field was periodic and no longer is (order >= 1)
 };
 
 // Subtracts the fitted form from the valid points (NaN stay NaN). order 0 removes the mean,
@@ -114,6 +119,7 @@ struct CropReport {
     int original_rows = 0;
     int original_cols = 0;
     double texel_um = 1.0;
+    bool ended_periodicity = false;  // a periodic field was cut to a part of itself
 };
 
 // Keeps rows [first_row, first_row + rows) and columns [first_col, first_col + cols) (image
