@@ -276,8 +276,10 @@ FootprintSamples sample_on_axes(const LobeQuery& query, const FootprintExtent& e
     const SampleAxis x = sample_axis(extent, extent.centre_um.x, step_x, kMaxSamplesPerAxis);
     const SampleAxis y = sample_axis(extent, extent.centre_um.y, step_y, kMaxSamplesPerAxis);
     if (static_cast<std::size_t>(x.count) * y.count > kMaxSamples)
-        throw Error("fft: the footprint grid would need " + std::to_string(x.count) + "x" + std::to_string(y.count) +
-                    " samples; use a larger step or a smaller footprint");
+        throw Error("the footprint grid would need " + std::to_string(x.count) + "x" + std::to_string(y.count) +
+                    " samples, about " +
+                    shortest_text(std::ceil(double(x.count) * y.count / double(kMaxSamples) * 6.0) / 10.0) +
+                    " GB (limit 2^23 samples, about 0.6 GB); use a larger step or a smaller footprint");
     return sample_footprint(*query.surface, extent, x, y, query.model == DiffractionModel::kirchhoff);
 }
 
