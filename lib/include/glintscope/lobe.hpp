@@ -74,8 +74,9 @@ double footprint_support_um(const Footprint& footprint);
 
 // On a non-periodic field (Heightfield::periodic false) a footprint whose support crosses the
 // border is refused with one line giving the valid range of centres; periodic fields and the
-// whole-field footprint always pass. compute_lobe calls it for every method that reads the
-// footprint.
+// whole-field footprint always pass, and so does a query with method option edge=truncate (the
+// fft method then cuts its window at the border; other methods refuse the option). compute_lobe
+// calls it for every method that reads the footprint.
 void check_footprint_inside(const LobeQuery& query);
 
 // Physics warnings about a query for a method, one line each; empty when there is nothing to

@@ -28,6 +28,10 @@ void check_footprint_inside(const LobeQuery& query) {
     const Heightfield& field = *query.field;
     const Footprint& footprint = query.footprint;
     if (field.periodic || footprint.shape == FootprintShape::whole) return;
+    // The fft method can instead cut its window at the border (its option edge=truncate);
+    // methods without that option refuse the option itself.
+    const auto edge = query.method_options.find("edge");
+    if (edge != query.method_options.end() && edge->second == "truncate") return;
     const double reach = footprint_support_um(footprint);
     const double width = field.width_um(), height = field.height_um();
     const double slack = 1e-9 * std::max(width, height);  // rounding in a centre computed as W/2
@@ -41,7 +45,7 @@ void check_footprint_inside(const LobeQuery& query) {
     if (c.x - reach < -slack || c.x + reach > width + slack || c.y - reach < -slack || c.y + reach > height + slack)
         throw Error("footprint centre (" + um(c.x) + ", " + um(c.y) + ") with support " + support +
                     " crosses the edge of " + field_text + ": centres must lie in x " + centre_range(reach, width) +
-                    ", y " + centre_range(reach, height) + " (or --periodic if the file tiles)");
+                    ", y " + centre_range(reach, height) + " (or --periodic if the file tiles, or fft's --edge truncate)");
 }
 
 }  // namespace glintscope
