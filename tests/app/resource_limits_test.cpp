@@ -26,3 +26,19 @@ TEST(ResourceLimitsCommand, GenerateAndResampleBeyondTheirLimitsStateTheMemory) 
 
 }  // namespace
 }  // namespace glintscope::testing
+
+namespace glintscope::testing {
+namespace {
+
+TEST(ResourceLimitsCommand, ThreadsTheSystemRefusesAreDoneWithout) {
+    // 1000 threads need 8 GB of stack address space; under a 1.5 GB limit most cannot start.
+    const TemporaryDirectory directory;
+    const CliResult result = run_shell("ulimit -v 1500000 && " + executable() +
+                                       " --threads 1000 lobe builtin:grating --method fft --res 32 -o " +
+                                       directory.file("lobe.exr"));
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("albedo 1.00021"), std::string::npos) << result.output;
+}
+
+}  // namespace
+}  // namespace glintscope::testing
