@@ -1,7 +1,8 @@
-// glintscope convert IN OUT [--crop X0,Y0,W,H] [--fill] [--remove-form FORM] [--resample TEXEL]:
-// prepares a measured heightfield and writes it in another format. The steps always run in the
-// order crop, fill, form removal, resample (see prepare.hpp for why); each prints one line and
-// is recorded in the output's provenance.
+// glintscope convert IN OUT [--flip-x] [--flip-y] [--rotate DEG] [--crop X0,Y0,W,H] [--fill]
+// [--remove-form FORM] [--resample TEXEL]: prepares a measured heightfield and writes it in
+// another format. The steps always run in the order orient, crop, fill, form removal, resample
+// (see prepare.hpp for why; orienting first puts --crop in the frame the output shows); each
+// prints one line and is recorded in the output's provenance.
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -26,7 +27,8 @@ struct ConvertSettings {
     std::string fill_method = "biharmonic";
     std::string form;
     double resample_texel_um = 0.0;
-    bool periodic = false;
+    Orientation orientation;
+    std::string rotate = "0";
     LoadOptions load;
 };
 
@@ -69,11 +71,15 @@ void run_convert(const ConvertSettings& settings, bool resample_given) {
     const bool form_given = !settings.form.empty();
     const int form_order = form_given ? parse_form_option(settings.form) : 0;
     const FillMethod fill_method = parse_fill_method(settings.fill_method);
-    const Tiling tiling = settings.periodic ? Tiling::periodic : Tiling::none;
+    Orientation orientation = settings.orientation;
+    orientation.rotate_degrees = parse_rotation(settings.rotate);
+    const bool orient_given = orientation.flip_x || orientation.flip_y || orientation.rotate_degrees != 0;
+    const Tiling tiling = settings.load.periodic ? Tiling::periodic : Tiling::none;
 
     Heightfield field = load_heightfield_argument(settings.input, settings.load);
     // Printed only once everything succeeded, so that a failure is one line.
     std::vector<std::string> lines{summary("read", settings.input, field)};
+    if (orient_given) lines.push_back("  " + describe(orient(field, orientation)));
     if (crop_given) lines.push_back("  " + describe(crop(field, region)));
     if (settings.fill) lines.push_back("  " + describe(fill_missing(field, fill_method, tiling)));
     if (form_given) lines.push_back("  " + describe(remove_form(field, form_order)));
@@ -90,11 +96,22 @@ void add_convert_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "convert",
         "Prepare a measured heightfield and write it (format from OUT's extension: .exr, .x3p, .npy). Steps run in "
-        "this order, each only when asked: crop, fill, form removal, resample; each is printed and recorded in the "
+        "this order, each only when asked: orient (flips, rotation), crop, fill, form removal, resample; each is printed and recorded in the "
         "output's provenance");
     command->add_option("input", settings->input, "Heightfield file (.x3p, .exr, .tif, .png, .npy) or builtin:KIND")
         ->required();
     command->add_option("output", settings->output, "Output file: .exr, .x3p or .npy")->required();
+    command->add_flag("--flip-x", settings->orientation.flip_x,
+                      "Mirror in x (columns reversed, x -> W - x); applied before --flip-y and --rotate");
+    command->add_flag("--flip-y", settings->orientation.flip_y,
+                      "Mirror in y (rows reversed, y -> H - y): shows an X3P the way Gwyddion does (see "
+                      "docs/heightfields.md)");
+    command
+        ->add_option("--rotate", settings->rotate,
+                     "Rotate counter-clockwise in map view by 90, 180 or 270 degrees, after the flips")
+        ->check(CLI::IsMember({"0", "90", "180", "270"}))
+        ->type_name("DEGREES")
+        ->capture_default_str();
     command
         ->add_option("--crop", settings->crop,
                      "Keep the region X0,Y0,W,H: lower-left corner (X0, Y0) and size W x H in map view, measured "
@@ -120,9 +137,6 @@ void add_convert_command(CLI::App& app) {
                           "Resample to this texel size (0.5um, 500nm; bare numbers are um): bicubic when finer, box "
                           "average then bicubic when coarser; the extent changes by less than half a texel. "
                           "Default: keep the texel");
-    command->add_flag("--periodic", settings->periodic,
-                      "The input tiles periodically (e.g. made by generate): fill and resample wrap around its "
-                      "borders. Default: a measured patch whose borders are edges");
     add_load_options(*command, settings->load);
     command->callback([settings, resample_option] { run_convert(*settings, resample_option->count() > 0); });
 }

@@ -32,6 +32,7 @@ void print_json(const std::string& input, const Heightfield& field, const Surfac
     member("height_um", json_number(field.height_um()));
     member("height_unit", json_string("um"));
     member("units_assumed", field.units_assumed ? "true" : "false");
+    member("periodic", field.periodic ? "true" : "false");
     std::string statistics = "{";
     auto statistic = [&statistics](const std::string& name, double value) {
         statistics += (statistics.size() > 1 ? ", " : "") + json_string(name) + ": " + json_number(value);
@@ -73,6 +74,8 @@ void print_text(const std::string& input, const Heightfield& field, const Surfac
     print_line("units:", field.units_assumed ? "ASSUMED: the file does not give them; texel 1 um and heights in um "
                                                "unless --texel and --height-unit say otherwise"
                                              : "from the file and options; heights in um");
+    print_line("tiling:", field.periodic ? "periodic (one tile of a periodic surface)"
+                                         : "non-periodic (its borders are edges; --periodic if the file tiles)");
     print_line("mean height:", format_length(s.mean_um));
     print_line("Sq (rms height):", format_length(s.sq_um));
     print_line("Sa (mean |h - mean|):", format_length(s.sa_um));

@@ -56,6 +56,10 @@ void add_load_options(CLI::App& command, LoadOptions& options) {
             "Sample spacing, overriding the file's (0.5um, 500nm, 2mm; a bare number is um). Default: the file's "
             "own spacing (X3P, EXR from glintscope), else 1 um")
         ->type_name("LENGTH");
+    command.add_flag("--periodic", options.periodic,
+                     "The file holds one tile of a periodic surface (e.g. written by generate): lobe footprints and "
+                     "convert's fill and resample wrap around its borders. Default: a measured patch whose borders "
+                     "are edges");
     command
         .add_option("--height-scale", options.height_scale,
                     "Multiply the heights by K after the unit conversion (e.g. -1 turns a replica's heights into the "

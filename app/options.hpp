@@ -13,7 +13,7 @@ CLI::Option* add_length_option(CLI::App& command, const std::string& name, doubl
                                const std::string& description);
 
 // The loading options of every heightfield input: --channel, --height-unit, --texel,
-// --height-scale (see LoadOptions).
+// --height-scale, --periodic (see LoadOptions).
 void add_load_options(CLI::App& command, LoadOptions& options);
 
 // A heightfield argument: a file read with `options`, or builtin:KIND generated from the

@@ -1,6 +1,9 @@
 #pragma once
 // Outputs are written to a temporary file beside the target and renamed into place only when
-// complete, so a failure never leaves a partial file under the requested name.
+// complete, so a failure never leaves a partial file under the requested name. The temporary
+// lives in its own hidden directory, removed with everything in it on an exception and, through
+// a signal handler installed on first use (only where the action is the default), on SIGINT,
+// SIGTERM and SIGHUP, after which the signal is re-raised.
 #include <functional>
 #include <string>
 #include <vector>

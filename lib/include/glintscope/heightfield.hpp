@@ -1,5 +1,6 @@
 #pragma once
-// A heightfield: a periodic grid of heights in µm (conventions.md "Frames and images").
+// A heightfield: a grid of heights in µm (conventions.md "Frames and images"), one tile of a
+// periodic surface when generated, a patch whose borders are edges when measured.
 // Row 0 is the largest y ("map view"); sample (r, c) of an R-row grid sits at
 // s = ((c + 0.5)·dx, (R − r − 0.5)·dx). Missing points (profilometer drop-outs) are NaN.
 #include <cstddef>
@@ -22,6 +23,10 @@ struct Heightfield {
     std::vector<float> heights_um;    // rows·cols, row-major, row 0 at the top (largest y)
     Provenance provenance;
     bool units_assumed = false;       // true when the file carried no units and defaults were used
+    // Whether the field tiles the plane (generated fields) or simply ends at its borders
+    // (measured scans, and any field loaded from a file unless LoadOptions::periodic). Lobes
+    // refuse footprints that cross the border of a non-periodic field (lobe.hpp).
+    bool periodic = true;
 
     float at(int r, int c) const { return heights_um[static_cast<std::size_t>(r) * cols + c]; }
     float& at(int r, int c) { return heights_um[static_cast<std::size_t>(r) * cols + c]; }

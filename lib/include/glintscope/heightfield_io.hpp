@@ -21,6 +21,7 @@ struct LoadOptions {
     std::optional<LengthUnit> height_unit;   // unit of the stored heights; texel = multiples of dx
     std::optional<double> texel_um;          // overrides the file's sample spacing
     double height_scale = 1.0;               // multiplies heights after unit conversion
+    bool periodic = false;                   // the file holds one tile of a periodic surface
 };
 
 // Throws Error with a one-line message naming the file and the problem (missing, corrupt,

@@ -68,6 +68,17 @@ void set_heightfield(LobeQuery& query, Heightfield field);
 // Error with a one-line message naming the bad parameter.
 void validate(const LobeQuery& query);
 
+// How far a footprint reaches from its centre: 3.25σ_c for a Gaussian (the wave methods'
+// truncation), half the side for a box.
+double footprint_support_um(const Footprint& footprint);
+
+// On a non-periodic field (Heightfield::periodic false) a footprint whose support crosses the
+// border is refused with one line giving the valid range of centres; periodic fields and the
+// whole-field footprint always pass, and so does a query with method option edge=truncate (the
+// fft method then cuts its window at the border; other methods refuse the option). compute_lobe
+// calls it for every method that reads the footprint.
+void check_footprint_inside(const LobeQuery& query);
+
 // Physics warnings about a query for a method, one line each; empty when there is nothing to
 // say: a coherence blur below a pixel that point-samples a wave lobe (its albedo and peak are
 // then off), incidence beyond the models' validity (shadowing is ignored).

@@ -9,6 +9,10 @@
 // Every step changes the field in place, returns a report, and appends its one-line
 // description to field.provenance as "prepare.N" (N = 1, 2, ... in the order applied), so
 // `info` and every output's metadata show what was done.
+//
+// Heightfield::periodic: orient, fill and resample keep it (fill and resample take the matching
+// Tiling from the caller); crop to a part of the field and form removal of order >= 1 clear it,
+// since a part of a tile, or a tile minus a tilt, does not tile (their reports and provenance lines say so).
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -53,6 +57,9 @@ struct FillReport {
 
 // Replaces every NaN by the solution of `method` over the missing region; valid points are
 // left unchanged bit for bit. Throws Error if the field is invalid or every point is missing.
+// Degenerate data: a single valid point fills the field with its height (either method); valid
+// points all on one grid line are refused for the biharmonic fill with Tiling::none, whose
+// thin plate could tilt across the line at no energy (the harmonic fill is unique there).
 FillReport fill_missing(Heightfield& field, FillMethod method = FillMethod::biharmonic, Tiling tiling = Tiling::none);
 
 // ---- Form removal (lib/src/form_removal.cpp) -------------------------------------------
@@ -80,6 +87,7 @@ struct FormReport {
     double rms_removed_um = 0.0;     // rms of the subtracted form about its mean, over the valid points
     double rms_residual_um = 0.0;    // rms of what remains (about zero)
     std::size_t fitted_points = 0;
+    bool ended_periodicity = false;  // the field was periodic and no longer is (order >= 1)
 };
 
 // Subtracts the fitted form from the valid points (NaN stay NaN). order 0 removes the mean,
@@ -111,6 +119,7 @@ struct CropReport {
     int original_rows = 0;
     int original_cols = 0;
     double texel_um = 1.0;
+    bool ended_periodicity = false;  // a periodic field was cut to a part of itself
 };
 
 // Keeps rows [first_row, first_row + rows) and columns [first_col, first_col + cols) (image
@@ -145,6 +154,31 @@ struct ResampleReport {
 // non-positive or non-finite texels, and for results beyond 2^31 samples.
 ResampleReport resample(Heightfield& field, double texel_um, Tiling tiling = Tiling::none);
 
+// ---- Orientation (lib/src/prepare/orient.cpp) ---------------------------------------------
+
+// Mirrors and quarter turns in map view (x right, y up; docs/heightfields.md compares the
+// orientations of other tools). Applied in this order: flip_x (x → W − x, columns reversed),
+// flip_y (y → H − y, rows reversed), then rotate_degrees counter-clockwise: one quarter turn maps
+// (x, y) to (H − y, x), so sample (r, c) of the result is sample (c, cols − 1 − r) of the input.
+// Exact: the heights are moved, never interpolated, and the texel is unchanged.
+struct Orientation {
+    bool flip_x = false;
+    bool flip_y = false;
+    int rotate_degrees = 0;  // 0, 90, 180 or 270
+};
+
+struct OrientReport {
+    Orientation orientation;
+    int original_rows = 0;
+    int original_cols = 0;
+};
+
+// Throws Error for a rotation other than 0, 90, 180 or 270 degrees.
+OrientReport orient(Heightfield& field, const Orientation& orientation);
+
+// Parses "0", "90", "180" or "270"; throws Error (without option name) on anything else.
+int parse_rotation(const std::string& text);
+
 // ---- Reports -----------------------------------------------------------------------------
 
 // One line each, e.g. "fill_missing: 1234 points (0.4%), biharmonic inpainting, ..." — the
@@ -153,6 +187,7 @@ std::string describe(const FillReport& report);
 std::string describe(const FormReport& report);
 std::string describe(const CropReport& report);
 std::string describe(const ResampleReport& report);
+std::string describe(const OrientReport& report);
 
 // Appends `description` to field.provenance as the next "prepare.N" entry.
 void record_preparation(Heightfield& field, const std::string& description);

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -63,7 +64,13 @@ void parallel_for(std::size_t count, std::size_t chunk,
     };
     std::vector<std::thread> threads;
     threads.reserve(workers - 1);
-    for (std::size_t t = 1; t < workers; ++t) threads.emplace_back(work);
+    // A thread the system refuses (process or memory limits) is not needed: the threads started
+    // share the chunks, and the calling thread alone would finish them all. Chunks do not depend
+    // on the thread count, so neither does the result.
+    try {
+        for (std::size_t t = 1; t < workers; ++t) threads.emplace_back(work);
+    } catch (const std::exception&) {  // std::system_error, or std::bad_alloc for the thread's state
+    }
     work();
     for (auto& thread : threads) thread.join();
     if (failure) std::rethrow_exception(failure);

@@ -38,6 +38,7 @@ Heightfield generate(const Recipe& recipe) {
     generate_heights(recipe, field);
 
     const std::string generator = generator_name(recipe.kind);
+    field.periodic = true;  // every generator makes one tile of a periodic surface
     field.provenance["generator"] = generator;
     if (generator != recipe.kind) field.provenance["generator.preset"] = recipe.kind;
     for (const RecipeKey& key : recipe_keys()) {

@@ -211,7 +211,9 @@ void validate_grid(const GridSpec& grid) {
                     ": rows and cols must be between 1 and " + std::to_string(kMaxSide));
     if (static_cast<std::size_t>(grid.rows) * static_cast<std::size_t>(grid.cols) > kMaxSamples)
         throw Error("grid " + std::to_string(grid.cols) + "x" + std::to_string(grid.rows) +
-                    " has more than 2^30 samples, the limit for generated heightfields");
+                    " has more than 2^30 samples, the limit for generated heightfields (it would need about " +
+                    shortest_text(std::ceil(8.0 * grid.rows * double(grid.cols) / 1e8) / 10.0) +
+                    " GB: 4 bytes of height and 4 of spectrum per sample)");
     require_positive("texel", grid.texel_um);
 }
 

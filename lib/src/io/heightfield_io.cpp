@@ -70,6 +70,8 @@ Heightfield load_heightfield(const std::string& path, const LoadOptions& options
                         : extension == "x3p" ? read_x3p(path, options)
                                              : read_image(path, options);
     validate(field, "cannot read '" + path + "'", /*allow_missing=*/true);
+    // A file does not say whether it tiles; measured scans do not, so that is the default.
+    field.periodic = options.periodic;
     return field;
 }
 

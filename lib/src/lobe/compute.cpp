@@ -75,6 +75,7 @@ void label(LobeImage& image, const MethodInfo& method, const LobeQuery& query) {
     image.metadata["method"] = method.name;
     image.metadata["method.reference"] = method.reference;
     image.metadata["quantity"] = to_string(query.quantity);
+    image.metadata["heightfield.tiling"] = query.field->periodic ? "periodic" : "non-periodic";
 }
 
 const std::string& option_text(const LobeQuery& query, const std::string& key) {
@@ -112,6 +113,8 @@ LobeImage compute_lobe(const std::string& method, const LobeQuery& query) {
     validate(query);
     check_quantity(entry.info, query.quantity);
     check_footprint(entry.info, query.footprint);
+    const auto& ignored = entry.info.ignored;
+    if (std::find(ignored.begin(), ignored.end(), QueryField::footprint) == ignored.end()) check_footprint_inside(query);
     LobeImage image;
     const auto start = std::chrono::steady_clock::now();
     try {

@@ -27,15 +27,26 @@ void validate(const LobeQuery& query) {
         if (!(lambda >= 0.1 && lambda <= 20.0))
             throw Error("wavelength " + shortest_text(lambda) + " um is outside 0.1-20 um");
     const Footprint& footprint = query.footprint;
-    if (!std::isfinite(footprint.centre_um.x) || !std::isfinite(footprint.centre_um.y))
-        throw Error("footprint centre must be finite");
+    // 1 m: far beyond any heightfield, while kernel and sample indices stay exact in double.
+    constexpr double max_centre_um = 1e6;
+    if (!(std::fabs(footprint.centre_um.x) <= max_centre_um && std::fabs(footprint.centre_um.y) <= max_centre_um))
+        throw Error("footprint centre must be finite and within +-1e6 um (1 m), got (" +
+                    shortest_text(footprint.centre_um.x) + ", " + shortest_text(footprint.centre_um.y) + ") um");
     if (footprint.shape == FootprintShape::gaussian && !(footprint.sigma_um > 0.0 && footprint.sigma_um <= 1e4))
         throw Error("coherence sigma must be between 0 and 10 mm, got " + shortest_text(footprint.sigma_um) + " um");
     if (footprint.shape == FootprintShape::box && !(footprint.size_um > 0.0 && footprint.size_um <= 1e5))
         throw Error("box footprint size must be between 0 and 100 mm, got " + shortest_text(footprint.size_um) +
                     " um");
+    // The image alone holds N² floats per wavelength: refused here, before any method allocates.
+    const auto image_gb = [&](double n) { return shortest_text(std::ceil(4.0 * n * n * query.wavelengths_um.size() / 1e8) / 10); };
     if (query.resolution < 4 || query.resolution > 8192)
-        throw Error("lobe resolution must be between 4 and 8192, got " + std::to_string(query.resolution));
+        throw Error("lobe resolution must be between 4 and 8192, got " + std::to_string(query.resolution) +
+                    (query.resolution > 8192 ? " (its image would need " + image_gb(query.resolution) + " GB)" : ""));
+    constexpr double max_image_gb = 4.0;
+    if (4.0 * double(query.resolution) * query.resolution * query.wavelengths_um.size() > max_image_gb * 1e9)
+        throw Error("lobe image of " + std::to_string(query.resolution) + "^2 pixels x " +
+                    std::to_string(query.wavelengths_um.size()) + " wavelengths would need " +
+                    image_gb(query.resolution) + " GB, beyond the 4 GB limit (lower --res or the wavelength count)");
     // An unknown material, or a wavelength outside its table, fails here rather than mid-lobe.
     if (!query.material.name.empty())
         for (double lambda : query.wavelengths_um) complex_refractive_index(query.material.name, lambda);

@@ -123,6 +123,18 @@ const std::vector<KeyBinding>& bindings() {
              if (q.source.load.height_scale == 1.0) return std::nullopt;
              return shortest_text(q.source.load.height_scale);
          }},
+        {{"periodic", "yes|no",
+          "the heightfield file holds one tile of a periodic surface: footprints may cross its borders (default no "
+          "for files; builtin fields always tile)",
+          "yes"},
+         [](LobeQuery& q, const std::string& t) {
+             if (t != "yes" && t != "no") throw Error("periodic must be yes or no, got '" + t + "'");
+             q.source.load.periodic = t == "yes";
+         },
+         [](const LobeQuery& q) -> std::optional<std::string> {
+             if (!q.source.load.periodic) return std::nullopt;
+             return std::string("yes");
+         }},
         {{"quantity", "brdf|ndf", "what a pixel holds: brdf (f_r at omega_o) or ndf (D at h) (default brdf)", ""},
          [](LobeQuery& q, const std::string& t) { q.quantity = parse_quantity(t); },
          [](const LobeQuery& q) { return to_string(q.quantity); }},

@@ -34,7 +34,7 @@ FootprintExtent footprint_extent(const Footprint& footprint, double window_sigma
 SampleAxis sample_axis(const FootprintExtent& extent, double centre_um, double step_um, int max_count) {
     const double cells = 2.0 * extent.half_width_um / step_um;
     if (!(cells < max_count))
-        throw Error("fft: a step of " + shortest_text(step_um) + " um needs more than " + std::to_string(max_count) +
+        throw Error("a step of " + shortest_text(step_um) + " um needs more than " + std::to_string(max_count) +
                     " samples across the " + shortest_text(2.0 * extent.half_width_um) +
                     " um footprint; use a larger step or a smaller footprint");
     if (extent.box) {

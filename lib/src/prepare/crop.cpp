@@ -49,6 +49,9 @@ CropReport crop_samples(Heightfield& field, int first_row, int first_col, int ro
     field.heights_um = std::move(kept);
     field.rows = rows;
     field.cols = cols;
+    // A part of a tile does not tile.
+    report.ended_periodicity = field.periodic && (rows != report.original_rows || cols != report.original_cols);
+    if (report.ended_periodicity) field.periodic = false;
     record_preparation(field, describe(report));
     return report;
 }
@@ -94,7 +97,7 @@ std::string describe(const CropReport& report) {
                   report.first_row + report.rows - 1, report.first_col, report.first_col + report.cols - 1,
                   report.origin_um.x, report.origin_um.x + report.cols * report.texel_um, report.origin_um.y,
                   report.origin_um.y + report.rows * report.texel_um);
-    return line;
+    return line + std::string(report.ended_periodicity ? "; the field is no longer periodic" : "");
 }
 
 }  // namespace glintscope

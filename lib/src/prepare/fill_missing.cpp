@@ -676,10 +676,65 @@ SolveResult fill_hole(const Grid& grid, const std::vector<std::size_t>& hole, Fi
     return result;
 }
 
+// ---- Degenerate data -----------------------------------------------------------------------
+
+// The valid points when they all lie on one line of the grid (a single point included), else
+// nothing. The test is exact: integer cross products of (row, column) offsets.
+std::optional<std::vector<std::size_t>> collinear_valid_points(const Grid& grid) {
+    std::vector<std::size_t> valid;
+    long long r0 = 0, c0 = 0, dr = 0, dc = 0;  // the first valid point and the direction to the second
+    for (std::size_t p = 0; p < grid.size(); ++p) {
+        if (grid.unknown(p)) continue;
+        const long long r = static_cast<long long>(p / grid.cols);
+        const long long c = static_cast<long long>(p % grid.cols);
+        if (valid.empty()) {
+            r0 = r;
+            c0 = c;
+        } else if (valid.size() == 1) {
+            dr = r - r0;
+            dc = c - c0;
+        } else if ((r - r0) * dc - (c - c0) * dr != 0) {
+            return std::nullopt;
+        }
+        valid.push_back(p);
+    }
+    return valid;
+}
+
+// One valid point fixes only the constant: both energies reach their minimum, zero, with the
+// field constant at its height. Valid points on one line leave the thin plate on a non-periodic
+// field free to tilt across the line at no energy, so its fill is undetermined: refused. (The
+// membrane's fill, and any fill on a periodic field, is unique once one point is fixed.)
+bool fill_degenerate(Heightfield& field, FillMethod method, Tiling tiling) {
+    const Grid grid{field.rows, field.cols, field.heights_um.data()};
+    const auto line = collinear_valid_points(grid);
+    if (!line) return false;
+    if (line->size() == 1) {
+        std::fill(field.heights_um.begin(), field.heights_um.end(), field.heights_um[line->front()]);
+        return true;
+    }
+    if (method == FillMethod::biharmonic && tiling == Tiling::none)
+        throw Error("fill: the " + std::to_string(line->size()) +
+                    " valid points lie on one line, which leaves the biharmonic fill free to tilt across it "
+                    "(the harmonic fill is defined there)");
+    return false;
+}
+
 }  // namespace
 
 FillReport fill_missing(Heightfield& field, FillMethod method, Tiling tiling) {
     validate(field, "fill", /*allow_missing=*/true);
+    if (fill_degenerate(field, method, tiling)) {
+        FillReport report;
+        report.method = method;
+        report.tiling = tiling;
+        report.filled_points = field.size() - 1;
+        report.filled_fraction = static_cast<double>(report.filled_points) / static_cast<double>(field.size());
+        report.holes = 1;
+        report.largest_hole = report.filled_points;
+        record_preparation(field, describe(report) + " (one valid point: filled with its height)");
+        return report;
+    }
     FillReport report;
     report.method = method;
     report.tiling = tiling;

@@ -194,6 +194,9 @@ FormReport remove_form(Heightfield& field, int order) {
         report.slope_y += term.coefficient_um * legendre_at_zero(term.i) * legendre_slope_at_zero(term.j) /
                           report.v_scale_um;
     }
+    // A tilt or curvature taken off a periodic tile leaves a step at its borders; a mean does not.
+    report.ended_periodicity = order > 0 && field.periodic;
+    if (report.ended_periodicity) field.periodic = false;
     record_preparation(field, describe(report));
     return report;
 }
@@ -222,7 +225,7 @@ std::string describe(const FormReport& report) {
                   "form rms %.4g um removed, residual rms %.4g um",
                   kind.c_str(), report.terms.size(), report.fitted_points, report.mean_um, report.slope_x,
                   report.slope_y, report.rms_removed_um, report.rms_residual_um);
-    return line;
+    return line + std::string(report.ended_periodicity ? "; the field is no longer periodic" : "");
 }
 
 }  // namespace glintscope

@@ -23,6 +23,7 @@
 #include "glintscope/interpolant.hpp"
 #include "glintscope/parallel.hpp"
 #include "glintscope/prepare.hpp"
+#include "glintscope/text_format.hpp"
 #include "glintscope/units.hpp"
 
 namespace glintscope {
@@ -141,7 +142,8 @@ ResampleReport resample(Heightfield& field, double texel_um, Tiling tiling) {
     if (cols * rows > 2147483648.0)
         throw Error("resample: a texel of " + format_length(texel_um) + " would make the field " +
                     std::to_string(static_cast<long long>(cols)) + "x" + std::to_string(static_cast<long long>(rows)) +
-                    " samples, beyond the limit of 2^31");
+                    " samples, beyond the limit of 2^31 (its heights alone would need " +
+                    shortest_text(std::ceil(4.0 * cols * rows / 1e8) / 10.0) + " GB)");
     report.cols = static_cast<int>(cols);
     report.rows = static_cast<int>(rows);
     report.tiling = tiling;

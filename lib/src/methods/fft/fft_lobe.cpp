@@ -48,6 +48,9 @@ FftSettings fft_settings(const LobeQuery& query) {
     settings.phase_error = method_option_number(query, "phase_error", settings.phase_error);
     if (!(settings.phase_error > 0.0 && settings.phase_error <= 1.0))
         throw Error("option phase_error must be in (0, 1], got " + shortest_text(settings.phase_error));
+    const std::string edge = method_option_text(query, "edge", "refuse");
+    if (edge != "refuse" && edge != "truncate") throw Error("option edge must be refuse or truncate, got '" + edge + "'");
+    settings.truncate_at_edges = edge == "truncate" && !query.field->periodic;
     return settings;
 }
 
@@ -268,8 +271,10 @@ FootprintSamples sample_on_axes(const LobeQuery& query, const FootprintExtent& e
     const SampleAxis x = sample_axis(extent, extent.centre_um.x, step_x, kMaxSamplesPerAxis);
     const SampleAxis y = sample_axis(extent, extent.centre_um.y, step_y, kMaxSamplesPerAxis);
     if (static_cast<std::size_t>(x.count) * y.count > kMaxSamples)
-        throw Error("fft: the footprint grid would need " + std::to_string(x.count) + "x" + std::to_string(y.count) +
-                    " samples; use a larger step or a smaller footprint");
+        throw Error("the footprint grid would need " + std::to_string(x.count) + "x" + std::to_string(y.count) +
+                    " samples, about " +
+                    shortest_text(std::ceil(double(x.count) * y.count / double(kMaxSamples) * 6.0) / 10.0) +
+                    " GB (limit 2^23 samples, about 0.6 GB); use a larger step or a smaller footprint");
     return sample_footprint(*query.surface, extent, x, y, query.model == DiffractionModel::kirchhoff);
 }
 
@@ -345,6 +350,33 @@ struct GridRecord {
     }
 };
 
+// Edge truncation on a non-periodic field: w is set to zero where s leaves the field, so R*
+// holds only measured heights, and the lobe loses the cut part of ∫|w|² (its normalisation A_c
+// stays that of the whole window; by Parseval the albedo drops by that part). The cut is a
+// step in w whose spectral tails the alias-free step does not provide for: a little of their
+// energy folds back into the image (+0.7% of the albedo in tests/lib/lobe/edge_test.cpp).
+void truncate_at_edges(FootprintSamples& samples, const Heightfield& field) {
+    const auto inside = [](double s, double extent) { return s >= 0.0 && s <= extent; };
+    for (int k = 0; k < samples.y.count; ++k)
+        for (int j = 0; j < samples.x.count; ++j)
+            if (!inside(samples.x.first_um + j * samples.x.step_um, field.width_um()) ||
+                !inside(samples.y.first_um + k * samples.y.step_um, field.height_um()))
+                samples.weight[static_cast<std::size_t>(k) * samples.x.count + j] = 0.0;
+}
+
+// The part of ∫|w|² ds inside the field: per axis, |w|² = e^{−p²/σ_c²} keeps
+// [erf((W − c)/σ_c) + erf(c/σ_c)]/2, and a box of side a keeps its overlap with [0, W] over a.
+double energy_inside(const Footprint& footprint, const Heightfield& field) {
+    const auto along = [&](double c, double extent) {
+        if (footprint.shape == FootprintShape::box) {
+            const double half = 0.5 * footprint.size_um;
+            return std::max(0.0, std::min(c + half, extent) - std::max(c - half, 0.0)) / footprint.size_um;
+        }
+        return 0.5 * (std::erf((extent - c) / footprint.sigma_um) + std::erf(c / footprint.sigma_um));
+    };
+    return along(footprint.centre_um.x, field.width_um()) * along(footprint.centre_um.y, field.height_um());
+}
+
 }  // namespace
 
 void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometry, const ScatteringFactor& factor,
@@ -364,6 +396,7 @@ void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometr
         setup.geometry = geometry;
         setup.lambda_um = image.wavelengths_um[layer];
         setup.samples = sample_for_wavelength(query, geometry, extent, settings, setup.lambda_um, xi3_max, slopes);
+        if (settings.truncate_at_edges) truncate_at_edges(setup.samples, *query.field);
         setup.slices = choose_xi3_slices(query.model, setup.samples, setup.lambda_um, xi3_min, xi3_max,
                                          settings.phase_error, kMaxXi3Slices);
         if (setup.slices.nodes_per_unit)
@@ -379,6 +412,9 @@ void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometr
     image.metadata["fft.guard_widths"] = shortest_text(settings.guard_widths);
     image.metadata["fft.oversampling"] = shortest_text(settings.oversampling);
     if (varying_xi3) image.metadata["fft.phase_error"] = shortest_text(settings.phase_error);
+    if (settings.truncate_at_edges)
+        image.metadata["fft.edge_energy_kept"] =
+            shortest_text(std::round(energy_inside(query.footprint, *query.field) * 1e6) / 1e6);
 }
 
 namespace {
@@ -406,7 +442,9 @@ std::vector<MethodOption> fft_options() {
             {"guard", "spectral margin in footprint spectral widths (default 6 for a Gaussian, 32 for a box)"},
             {"oversampling", "step oversampling beyond the alias-free bound, for the C1 interpolant (default 3)"},
             {"phase_error", "GHS, R-GHS, Kirchhoff: xi3 interpolation error bound, in flat-mirror peak amplitudes "
-                            "(default 0.01)"}};
+                            "(default 0.01)"},
+            {"edge", "non-periodic field: refuse (default) a footprint crossing its border, or truncate the window "
+                     "there (the lost energy is recorded as fft.edge_energy_kept)"}};
 }
 
 MethodEntry fft_method() {

@@ -51,6 +51,7 @@ struct FftSettings {
     double guard_widths = 6.0;
     double oversampling = 3.0;
     double phase_error = 0.01;
+    bool truncate_at_edges = false;  // option edge=truncate on a non-periodic field
 };
 FftSettings fft_settings(const LobeQuery& query);
 

@@ -64,6 +64,13 @@ private:
     double area_um2_ = 0.0;
 };
 
+// An integral-valued index clamped to [lo, hi] exactly: a clamp in double loses integers above
+// 2^53 and let a span leave its buffer, so only the conversion to integer goes through double.
+inline long long clamp_kernel_index(double index, long long lo, long long hi) {
+    constexpr double limit = 0x1p62;  // inside the long long range, beyond any footprint index
+    return std::clamp(static_cast<long long>(std::clamp(index, -limit, limit)), lo, hi);
+}
+
 // Inline: a point query calls these once per kernel row and per hierarchy node.
 inline bool CoherenceWindow::row_span(const KernelGrid& grid, double centre_x, double py, long long lo,
                                       long long hi, long long& first, long long& last) const {
@@ -74,8 +81,8 @@ inline bool CoherenceWindow::row_span(const KernelGrid& grid, double centre_x, d
     const double half = std::sqrt(reach2);
     const double from = std::ceil((centre_x - half) / grid.spacing_um - 0.5);
     const double to = std::floor((centre_x + half) / grid.spacing_um - 0.5);
-    first = static_cast<long long>(std::clamp(from, double(lo), double(hi) + 1.0));
-    last = static_cast<long long>(std::clamp(to, double(lo) - 1.0, double(hi)));
+    first = clamp_kernel_index(from, lo, hi + 1);
+    last = clamp_kernel_index(to, lo - 1, hi);
     while (first > lo && contains(grid.centre(first - 1) - centre_x, py)) --first;
     while (first <= last && !contains(grid.centre(first) - centre_x, py)) ++first;
     while (last < hi && last >= first && contains(grid.centre(last + 1) - centre_x, py)) ++last;
