@@ -14,11 +14,16 @@
 // glintscope:provenance:<key> for each provenance entry; reading them back restores all of it.
 // Images without these attributes have no units (units_assumed unless the options give them).
 #include <charconv>
+#include <cmath>
+#include <filesystem>
 #include <cstdint>
+#include <cstdio>
 #include <string_view>
 #include <vector>
 
 #include <OpenImageIO/imageio.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 #include "formats.hpp"
 #include "glintscope/text_format.hpp"
@@ -133,7 +138,51 @@ void read_pixels(OIIO::ImageInput& input, int channel, const HeightConversion& c
 
 }  // namespace
 
+// libpng (through OpenImageIO) prints its own "libpng error: ..." lines on stderr beside the one
+// line this tool reports, so the image library's reads run with stderr pointed at /dev/null.
+// Heightfields are read before any worker thread starts, so nothing else writes meanwhile.
+class QuietLibraryOutput {
+public:
+    QuietLibraryOutput() {
+        std::fflush(stderr);
+        saved_ = ::dup(STDERR_FILENO);
+        const int null = ::open("/dev/null", O_WRONLY);
+        if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
+        if (null >= 0) ::close(null);
+    }
+    ~QuietLibraryOutput() {
+        std::fflush(stderr);
+        if (saved_ >= 0) {
+            ::dup2(saved_, STDERR_FILENO);
+            ::close(saved_);
+        }
+    }
+    QuietLibraryOutput(const QuietLibraryOutput&) = delete;
+    QuietLibraryOutput& operator=(const QuietLibraryOutput&) = delete;
+
+private:
+    int saved_ = -1;
+};
+
+// Lossless codecs (deflate, PIZ, RLE) stay below about 1032:1; a header that claims more decoded
+// bytes than that from its file, beyond a size any image here may have, is a decompression bomb:
+// refuse it before the decoder allocates (a PNG claiming 40000² otherwise takes ~20 s and 9 GB).
+constexpr double kMaxCompressionRatio = 1100.0;
+constexpr double kAlwaysAllowedBytes = 256.0 * (1 << 20);
+
+void check_decoded_size(const OIIO::ImageSpec& spec, const std::string& path) {
+    const double decoded = double(spec.width) * spec.height * spec.nchannels * double(spec.format.size());
+    std::error_code ec;
+    const double stored = double(std::filesystem::file_size(path, ec));
+    if (ec || decoded <= kAlwaysAllowedBytes || decoded <= kMaxCompressionRatio * stored) return;
+    throw read_error(path, "the header claims " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
+                               " pixels (" + shortest_text(std::round(decoded / 1e8) / 10.0) + " GB decoded) from a " +
+                               shortest_text(std::round(stored / 1e2) / 10.0) +
+                               " KB file, more than any lossless compression gives: refused");
+}
+
 Heightfield read_image(const std::string& path, const LoadOptions& options) {
+    const QuietLibraryOutput quiet;
     // Keep colour channels as stored: associating alpha would scale heights by it.
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
@@ -143,6 +192,7 @@ Heightfield read_image(const std::string& path, const LoadOptions& options) {
     if (spec.depth > 1) throw read_error(path, "volume images are not supported");
     if (spec.nchannels <= 0) throw read_error(path, "the image has no channels");
     check_grid_size(spec.width, spec.height, path);
+    check_decoded_size(spec, path);
     const int channel = choose_channel(spec, options.channel, path);
     const HeightConversion conversion = resolve_units(header_units(spec, path), options, path);
 
