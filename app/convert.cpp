@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "glintscope/text_format.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/heightfield_io.hpp"
 #include "glintscope/prepare.hpp"
@@ -86,6 +87,10 @@ void run_convert(const ConvertSettings& settings, bool resample_given) {
     if (resample_given) lines.push_back("  " + describe(resample(field, settings.resample_texel_um, tiling)));
     save_heightfield(settings.output, field);
     lines.push_back(summary("wrote", settings.output, field));
+    // NPY has no place for it (and a sidecar would be lost as soon as the file is copied alone).
+    if (settings.output.ends_with(".npy"))
+        lines.push_back("  note: NPY stores no texel size or units: read it back with --texel " +
+                        shortest_text(field.texel_um) + "um (heights are in um)");
     for (const std::string& line : lines) std::printf("%s\n", line.c_str());
 }
 

@@ -9,12 +9,15 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "glintscope/generate.hpp"
 #include "glintscope/heightfield_io.hpp"
 
 namespace glintscope {
 namespace {
 
 using testing::count_entries;
+using testing::run_cli;
+using testing::CliResult;
 using testing::run_cli;
 using testing::TemporaryDirectory;
 
@@ -120,6 +123,25 @@ TEST(ConvertCommand, HelpShowsUnitsDefaultsAndOrder) {
                                    "10um,5um,100um,50um", "=biharmonic", "poly:N", "--resample", "bare numbers are um",
                                    "--periodic", "--texel", "--height-unit"})
         EXPECT_TRUE(contains(result.output, part)) << part << "\n" << result.output;
+}
+
+TEST(ConvertCommand, NpyOutputSaysHowToGetTheTexelBack) {
+    // NPY has no texel field: convert prints the --texel that restores it, and that round trip
+    // gives back the same sample spacing and heights.
+    TemporaryDirectory directory;
+    const CliResult result = run_cli({"convert", "builtin:grating", directory.file("g.npy"), "--crop", "0,0,20um,20um"});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    const std::string flag = "--texel ";
+    const std::size_t at = result.output.find(flag);
+    ASSERT_NE(at, std::string::npos) << result.output;
+    const std::string texel = result.output.substr(at + flag.size(), result.output.find(' ', at + flag.size()) - at - flag.size());
+    EXPECT_EQ(texel, "0.25um");
+    LoadOptions options;
+    options.texel_um = 0.25;
+    const Heightfield back = load_heightfield(directory.file("g.npy"), options);
+    const Heightfield original = generate_builtin("grating");
+    EXPECT_EQ(back.texel_um, original.texel_um);
+    EXPECT_EQ(back.cols, 80);
 }
 
 }  // namespace

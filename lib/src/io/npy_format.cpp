@@ -1,7 +1,8 @@
 // NumPy .npy arrays (format versions 1.0, 2.0 and 3.0, as specified in numpy.lib.format):
 // a magic string, a little-endian header length, a Python dict literal with 'descr',
-// 'fortran_order' and 'shape', then the raw data. Heightfields are 2-D float32 or float64
-// arrays in C order, shape (rows, cols), array row 0 = heightfield row 0 = the top (largest y),
+// 'fortran_order' and 'shape', then the raw data. Heightfields are 2-D arrays of shape (rows,
+// cols) — float32/64 or integers of 1-8 bytes, either byte order, C or Fortran order (transposed
+// on read) — array row 0 = heightfield row 0 = the top (largest y),
 // as an array shown with matplotlib's imshow. NPY carries no units, so a loaded field has
 // units_assumed unless the options supply them, and the texel size is not saved.
 #include <algorithm>
@@ -142,24 +143,73 @@ T read_little_endian(const unsigned char* bytes) {
     return value;
 }
 
-std::size_t item_size(const std::string& descr, const std::string& path) {
-    if (descr == "<f4") return 4;
-    if (descr == "<f8") return 8;
-    throw read_error(path,
-                     "NPY dtype '" + descr + "' is not supported (use little-endian float32 '<f4' or float64 '<f8')");
+// A dtype string: byte order ('<' little, '>' big, '|' not applicable, '=' native: little on
+// every machine this builds for), kind ('f' float, 'i' signed, 'u' unsigned) and item size.
+struct NpyType {
+    char kind = 'f';
+    std::size_t size = 4;
+    bool big_endian = false;
+};
+
+NpyType parse_dtype(const std::string& descr, const std::string& path) {
+    const auto unsupported = [&] {
+        return read_error(path, "NPY dtype '" + descr +
+                                    "' is not supported (float32/64, int8-64 or uint8-64, either byte order)");
+    };
+    if (descr.size() != 3 || std::string_view("<>|=").find(descr[0]) == std::string_view::npos) throw unsupported();
+    NpyType type{descr[1], static_cast<std::size_t>(descr[2] - '0'), descr[0] == '>'};
+    const bool integer = (type.kind == 'i' || type.kind == 'u') &&
+                         (type.size == 1 || type.size == 2 || type.size == 4 || type.size == 8);
+    const bool floating = type.kind == 'f' && (type.size == 4 || type.size == 8);
+    if (!integer && !floating) throw unsupported();
+    return type;
 }
 
-template <typename Stored>
-void convert_heights(std::ifstream& in, const HeightConversion& conversion, Heightfield& field,
-                     const std::string& path) {
-    // Read in slices so that a huge file never needs a second full-size buffer.
-    constexpr std::size_t kSlice = 1 << 20;
-    std::vector<Stored> slice(kSlice);
-    for (std::size_t begin = 0; begin < field.size(); begin += kSlice) {
-        const std::size_t count = std::min(kSlice, field.size() - begin);
-        in.read(reinterpret_cast<char*>(slice.data()), static_cast<std::streamsize>(count * sizeof(Stored)));
+template <typename T>
+double decode_as(const unsigned char* bytes, bool big_endian) {
+    unsigned char ordered[sizeof(T)];
+    for (std::size_t k = 0; k < sizeof(T); ++k) ordered[k] = bytes[big_endian ? sizeof(T) - 1 - k : k];
+    T value;
+    std::memcpy(&value, ordered, sizeof value);
+    return static_cast<double>(value);
+}
+
+double decode(const unsigned char* bytes, const NpyType& type) {
+    switch (type.kind) {
+        case 'f': return type.size == 4 ? decode_as<float>(bytes, type.big_endian) : decode_as<double>(bytes, type.big_endian);
+        case 'i':
+            switch (type.size) {
+                case 1: return decode_as<std::int8_t>(bytes, false);
+                case 2: return decode_as<std::int16_t>(bytes, type.big_endian);
+                case 4: return decode_as<std::int32_t>(bytes, type.big_endian);
+                default: return decode_as<std::int64_t>(bytes, type.big_endian);
+            }
+        default:
+            switch (type.size) {
+                case 1: return decode_as<std::uint8_t>(bytes, false);
+                case 2: return decode_as<std::uint16_t>(bytes, type.big_endian);
+                case 4: return decode_as<std::uint32_t>(bytes, type.big_endian);
+                default: return decode_as<std::uint64_t>(bytes, type.big_endian);
+            }
+    }
+}
+
+// Reads the items in file order, in slices so that a huge file never needs a second full-size
+// buffer; a Fortran-order array (column-major) is transposed on the way into map rows.
+void convert_heights(std::ifstream& in, const NpyType& type, bool fortran_order, const HeightConversion& conversion,
+                     Heightfield& field, const std::string& path) {
+    constexpr std::size_t kSliceItems = 1 << 20;
+    std::vector<unsigned char> slice(kSliceItems * type.size);
+    const std::size_t rows = static_cast<std::size_t>(field.rows), cols = static_cast<std::size_t>(field.cols);
+    for (std::size_t begin = 0; begin < field.size(); begin += kSliceItems) {
+        const std::size_t count = std::min(kSliceItems, field.size() - begin);
+        in.read(reinterpret_cast<char*>(slice.data()), static_cast<std::streamsize>(count * type.size));
         if (!in) throw read_error(path, "NPY data is truncated");
-        for (std::size_t i = 0; i < count; ++i) field.heights_um[begin + i] = conversion.to_um(slice[i]);
+        for (std::size_t i = 0; i < count; ++i) {
+            const std::size_t n = begin + i;
+            const std::size_t at = fortran_order ? (n % rows) * cols + n / rows : n;
+            field.heights_um[at] = conversion.to_um(decode(&slice[i * type.size], type));
+        }
     }
 }
 
@@ -189,9 +239,8 @@ Heightfield read_npy(const std::string& path, const LoadOptions& options) {
     std::string header_text(header_length, '\0');
     in.read(header_text.data(), static_cast<std::streamsize>(header_length));
     const NpyHeader header = HeaderParser(header_text, path).parse();
-    const std::size_t item = item_size(header.descr, path);
-    if (header.fortran_order)
-        throw read_error(path, "NPY array is in Fortran order; save it in C order (numpy.ascontiguousarray)");
+    const NpyType type = parse_dtype(header.descr, path);
+    const std::size_t item = type.size;
     if (header.shape.size() != 2)
         throw read_error(path, "NPY array has " + std::to_string(header.shape.size()) +
                                    " dimensions; a heightfield needs 2 (rows, cols)");
@@ -209,10 +258,7 @@ Heightfield read_npy(const std::string& path, const LoadOptions& options) {
     const HeightConversion conversion = resolve_units({}, options, path);
     Heightfield field = make_heightfield(static_cast<int>(rows), static_cast<int>(cols), conversion.texel_um);
     field.units_assumed = conversion.units_assumed;
-    if (item == 4)
-        convert_heights<float>(in, conversion, field, path);
-    else
-        convert_heights<double>(in, conversion, field, path);
+    convert_heights(in, type, header.fortran_order, conversion, field, path);
     return field;
 }
 

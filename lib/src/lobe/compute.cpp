@@ -121,7 +121,9 @@ LobeImage compute_lobe(const std::string& method, const LobeQuery& query) {
         check_option_keys(entry.info, query);
         image = entry.compute(query);
     } catch (const Error& e) {
-        throw Error(method + ": " + e.what());
+        // Once: messages shared with a method's other entry points may already name it.
+        const std::string what = e.what();
+        throw Error(what.starts_with(method + ": ") ? what : method + ": " + what);
     }
     image.quantity = query.quantity;
     label(image, entry.info, query);

@@ -502,10 +502,8 @@ TEST(HeightfieldIo, CorruptNpyFiles) {
     TemporaryDirectory directory;
     const std::string path = directory.file("bad.npy");
     const std::string six = binary(std::vector<float>(6, 1.0f));
-    write_file(path, npy_file("<f4", "(2, 3)", six, "True"));
-    EXPECT_NE(load_error(path).find("Fortran order"), std::string::npos);
-    write_file(path, npy_file("<i4", "(2, 3)", six));
-    EXPECT_NE(load_error(path).find("dtype '<i4' is not supported"), std::string::npos);
+    write_file(path, npy_file("<c8", "(2, 3)", six));
+    EXPECT_NE(load_error(path).find("dtype '<c8' is not supported"), std::string::npos);
     write_file(path, npy_file("<f4", "(1, 2, 3)", six));
     EXPECT_NE(load_error(path).find("3 dimensions"), std::string::npos);
     write_file(path, npy_file("<f4", "(6,)", six));

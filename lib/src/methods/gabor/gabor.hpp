@@ -4,8 +4,8 @@
 // The reflection function R*(s) = w(s − x_c) ξ2 e^{−i2π ξ3 H(s)/λ} is approximated by one Gabor
 // kernel per cell of a regular grid of spacing l = dx/K (K = kernels per texel along each axis),
 // centred at the cell centre m_k, of width σ_k = l/2, with H(m_k) and H'(m_k) from the shared
-// BicubicInterpolant (eq. 9–15). Each kernel's Fourier transform is a Gaussian times a plane
-// wave, so the BRDF is a short sum (eq. 16–17):
+// BicubicInterpolant (Yan 2018 eq. 9–15). Each kernel's Fourier transform is a Gaussian times a plane
+// wave, so the BRDF is a short sum (Yan 2018 eq. 16–17):
 //   f_r(ω_i, ω_o) ≈ ξ1/A_c |Σ_k w_k C_k F[g_k](ψ̄/λ)|²,   ξ1 including F/λ².
 // Kernels are kept within `footprint_sigmas` σ_c of x_c (a box footprint keeps the kernels
 // inside the box), and each kernel's transform is cut to the box |v + a_k| ≤ kernel_sigmas ·
@@ -29,22 +29,22 @@ namespace glintscope {
 
 // ---- One Gabor kernel (Yan 2018 §4.1) -----------------------------------------------------
 
-// g(s; μ, σ, a) = G_2D(s; μ, σ) e^{−i2π a·s}, G_2D the normalised isotropic Gaussian (eq. 7).
+// g(s; μ, σ, a) = G_2D(s; μ, σ) e^{−i2π a·s}, G_2D the normalised isotropic Gaussian (Yan 2018 eq. 7).
 struct GaborKernel {
     Point2 centre_um;         // μ
     double sigma_um = 0.5;    // σ
     Point2 frequency;         // a, cycles/µm
 };
 
-// g(s) (eq. 7).
+// g(s) (Yan 2018 eq. 7).
 std::complex<double> gabor_kernel_value(const GaborKernel& kernel, Point2 s_um);
 
-// F[g](v) = ∫ g(s) e^{−i2π s·v} ds = e^{−i2π μ·(v + a)} e^{−2π²σ²|v + a|²}: eq. 8 with the centre
+// F[g](v) = ∫ g(s) e^{−i2π s·v} ds = e^{−i2π μ·(v + a)} e^{−2π²σ²|v + a|²}: Yan 2018 eq. 8 with the centre
 // μ in the phase (the paper prints a·(v + a), a misprint: conventions.md).
 std::complex<double> gabor_kernel_transform(const GaborKernel& kernel, Point2 v);
 
-// The kernel that stands for the cell of side l centred at m (eq. 13–15): R_k(s) ≈ C_k g(s; m, l/2, a_k)
-// with C_k = l² ξ2 e^{−i2π ξ3 (H(m) − H'(m)·m)/λ} (eq. 14) and a_k = ξ3 H'(m)/λ (eq. 15).
+// The kernel that stands for the cell of side l centred at m (Yan 2018 eq. 13–15): R_k(s) ≈ C_k g(s; m, l/2, a_k)
+// with C_k = l² ξ2 e^{−i2π ξ3 (H(m) − H'(m)·m)/λ} (Yan 2018 eq. 14) and a_k = ξ3 H'(m)/λ (Yan 2018 eq. 15).
 struct GaborCellKernel {
     std::complex<double> coefficient;  // C_k
     GaborKernel kernel;

@@ -4,12 +4,12 @@
 #include <string>
 
 #include "glintscope/error.hpp"
+#include "glintscope/text_format.hpp"
 #include "gabor.hpp"
 
 namespace glintscope {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 std::complex<double> unit_phasor(double radians) { return {std::cos(radians), std::sin(radians)}; }
 
@@ -20,8 +20,8 @@ std::complex<double> gabor_kernel_value(const GaborKernel& kernel, Point2 s_um) 
     const double dx = s_um.x - kernel.centre_um.x;
     const double dy = s_um.y - kernel.centre_um.y;
     const double variance = kernel.sigma_um * kernel.sigma_um;
-    const double gaussian = std::exp(-(dx * dx + dy * dy) / (2.0 * variance)) / (2.0 * kPi * variance);
-    return gaussian * unit_phasor(-2.0 * kPi * (kernel.frequency.x * s_um.x + kernel.frequency.y * s_um.y));
+    const double gaussian = std::exp(-(dx * dx + dy * dy) / (2.0 * variance)) / (2.0 * pi * variance);
+    return gaussian * unit_phasor(-2.0 * pi * (kernel.frequency.x * s_um.x + kernel.frequency.y * s_um.y));
 }
 
 // Yan 2018 eq. 8 with the misprint corrected: shifting the Gaussian to μ multiplies its transform
@@ -30,18 +30,18 @@ std::complex<double> gabor_kernel_transform(const GaborKernel& kernel, Point2 v)
     const double ux = v.x + kernel.frequency.x;
     const double uy = v.y + kernel.frequency.y;
     const double sigma2 = kernel.sigma_um * kernel.sigma_um;
-    const double gaussian = std::exp(-2.0 * kPi * kPi * sigma2 * (ux * ux + uy * uy));
-    return gaussian * unit_phasor(-2.0 * kPi * (kernel.centre_um.x * ux + kernel.centre_um.y * uy));
+    const double gaussian = std::exp(-2.0 * pi * pi * sigma2 * (ux * ux + uy * uy));
+    return gaussian * unit_phasor(-2.0 * pi * (kernel.centre_um.x * ux + kernel.centre_um.y * uy));
 }
 
-// Yan 2018 eq. 14–15 (the cell's box replaced by a Gaussian of equal area, eq. 13).
+// Yan 2018 eq. 14–15 (the cell's box replaced by a Gaussian of equal area, Yan 2018 eq. 13).
 GaborCellKernel gabor_cell_kernel(Point2 centre_um, double cell_um, const SurfacePoint& surface_at_centre,
                                   double xi2, double xi3, double lambda_um) {
     const double hx = surface_at_centre.dh_dx;
     const double hy = surface_at_centre.dh_dy;
     const double alpha = surface_at_centre.height - (hx * centre_um.x + hy * centre_um.y);
     GaborCellKernel cell;
-    cell.coefficient = cell_um * cell_um * xi2 * unit_phasor(-2.0 * kPi * xi3 * alpha / lambda_um);
+    cell.coefficient = cell_um * cell_um * xi2 * unit_phasor(-2.0 * pi * xi3 * alpha / lambda_um);
     cell.kernel = {centre_um, 0.5 * cell_um, {xi3 * hx / lambda_um, xi3 * hy / lambda_um}};
     return cell;
 }
@@ -52,10 +52,10 @@ void validate(const GaborSettings& settings) {
                     std::to_string(settings.kernels_per_texel));
     if (!(settings.footprint_sigmas >= 1.0 && settings.footprint_sigmas <= 8.0))
         throw Error("gabor: footprint truncation must be 1 to 8 sigma, got " +
-                    std::to_string(settings.footprint_sigmas));
+                    shortest_text(settings.footprint_sigmas));
     // exp_neg (gabor_math.hpp) is accurate for exponents up to 25 = 5².
     if (!(settings.kernel_sigmas >= 1.0 && settings.kernel_sigmas <= 5.0))
-        throw Error("gabor: kernel truncation must be 1 to 5 sigma, got " + std::to_string(settings.kernel_sigmas));
+        throw Error("gabor: kernel truncation must be 1 to 5 sigma, got " + shortest_text(settings.kernel_sigmas));
 }
 
 GaborSettings gabor_settings(const LobeQuery& query) {

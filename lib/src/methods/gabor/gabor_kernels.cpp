@@ -16,7 +16,6 @@
 namespace glintscope::gabor {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 using Double4 = double __attribute__((vector_size(32)));
 
@@ -38,7 +37,7 @@ template <typename T>
 [[gnu::always_inline]] inline void add_term(const T& px, const T& py, const T& height, const T& slope_x,
                                             const T& slope_y, const T& weight, const TransformPoint& point,
                                             double reach2, double beta, T& sum_re, T& sum_im) {
-    const T dx = point.vx + point.xi3_over_lambda * slope_x;  // v + a_k (eq. 15)
+    const T dx = point.vx + point.xi3_over_lambda * slope_x;  // v + a_k (Yan 2018 eq. 15)
     const T dy = point.vy + point.xi3_over_lambda * slope_y;
     const T xi2 = 1.0 - point.xi2_gx * slope_x - point.xi2_gy * slope_y;
     const T amplitude = weight * xi2 * gabor_math::exp_neg(beta * (dx * dx + dy * dy));
@@ -87,8 +86,8 @@ KernelGrid kernel_grid(double texel_um, const GaborSettings& settings) {
     grid.spacing_um = texel_um / settings.kernels_per_texel;
     grid.sigma_um = 0.5 * grid.spacing_um;
     // The transform's Gaussian e^{−2π²σ²|v + a|²} has standard deviation 1/(2πσ) in v.
-    grid.reach = settings.kernel_sigmas / (2.0 * kPi * grid.sigma_um);
-    grid.beta = 2.0 * kPi * kPi * grid.sigma_um * grid.sigma_um;
+    grid.reach = settings.kernel_sigmas / (2.0 * pi * grid.sigma_um);
+    grid.beta = 2.0 * pi * pi * grid.sigma_um * grid.sigma_um;
     return grid;
 }
 
@@ -110,7 +109,7 @@ CoherenceWindow::CoherenceWindow(const Footprint& footprint, double footprint_si
         inverse_two_variance_ = 1.0 / (2.0 * sigma * sigma);
         half_extent_um_ = footprint_sigmas * sigma;
         radius_squared_ = half_extent_um_ * half_extent_um_;
-        area_um2_ = kPi * sigma * sigma;
+        area_um2_ = pi * sigma * sigma;
     }
 }
 

@@ -19,7 +19,7 @@ struct KernelGrid {
     double spacing_um = 1.0;  // l = dx/K
     double sigma_um = 0.5;    // σ_k = l/2 (Yan 2018 §4.2)
     double reach = 1.0;       // kernel_sigmas/(2πσ_k), cycles/µm: half-width of each transform's box
-    double beta = 0.5;        // 2π²σ_k²: |F[g_k](v)| = e^{−β|v + a_k|²} (eq. 8)
+    double beta = 0.5;        // 2π²σ_k²: |F[g_k](v)| = e^{−β|v + a_k|²} (Yan 2018 eq. 8)
     double centre(long long index) const { return (static_cast<double>(index) + 0.5) * spacing_um; }
 };
 KernelGrid kernel_grid(double texel_um, const GaborSettings& settings);
@@ -190,7 +190,7 @@ TransformPoint transform_point(DiffractionModel model, const FresnelAtWavelength
                                Vec3 omega_o, double lambda_um, double area_um2);
 
 // Σ_k w_k C_k F[g_k](v) over kernels [begin, end), each transform cut to its box |v + a_k| ≤ reach.
-// With C_k (eq. 14), a_k (eq. 15) and F[g_k] (eq. 8), m_k·a_k = ξ3 H'_k·m_k/λ cancels the
+// With C_k (Yan 2018 eq. 14), a_k (Yan 2018 eq. 15) and F[g_k] (Yan 2018 eq. 8), m_k·a_k = ξ3 H'_k·m_k/λ cancels the
 // H'·m term of C_k, leaving
 //   w_k C_k F[g_k](v) = w_k l² ξ2 e^{−i2π(ξ3 H_k/λ + m_k·v)} e^{−β|v + a_k|²}.
 // Measuring m from x_c and H from H_ref multiplies every term by the same unit phasor

@@ -22,7 +22,6 @@
 namespace glintscope {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 // The canonical isotropic surface: 1024² at 1 µm, rms slope 0.17 per axis (Yan 2018 Fig. 8).
 const std::shared_ptr<const Heightfield>& isotropic_field() {
@@ -63,7 +62,7 @@ std::complex<double> transform_by_quadrature(const GaborKernel& kernel, Point2 v
     for (int j = -half; j <= half; ++j)
         for (int i = -half; i <= half; ++i) {
             const Point2 s{kernel.centre_um.x + i * step, kernel.centre_um.y + j * step};
-            const double phase = -2.0 * kPi * (s.x * v.x + s.y * v.y);
+            const double phase = -2.0 * pi * (s.x * v.x + s.y * v.y);
             sum += gabor_kernel_value(kernel, s) * std::complex<double>(std::cos(phase), std::sin(phase));
         }
     return sum * step * step;
@@ -80,7 +79,7 @@ TEST(GaborKernel, TransformMatchesQuadratureAndNotTheMisprint) {
         // Eq. 8 as printed puts a, not μ, in the phase: e^{−i2π a·(v + a)}.
         const double ux = v.x + kernel.frequency.x;
         const double uy = v.y + kernel.frequency.y;
-        const double printed_phase = -2.0 * kPi * (kernel.frequency.x * ux + kernel.frequency.y * uy);
+        const double printed_phase = -2.0 * pi * (kernel.frequency.x * ux + kernel.frequency.y * uy);
         const std::complex<double> printed =
             std::abs(closed) * std::complex<double>(std::cos(printed_phase), std::sin(printed_phase));
         worst_misprint_error = std::max(worst_misprint_error, std::abs(printed - numeric) / std::abs(numeric));
@@ -89,7 +88,7 @@ TEST(GaborKernel, TransformMatchesQuadratureAndNotTheMisprint) {
 }
 
 // The kernel sum uses C_k F[g_k](v) simplified (gabor_kernels.hpp); it must equal the literal
-// product of eq. 14, 15 and 8, up to the common phase it drops.
+// product of Yan 2018 eq. 14, 15 and 8, up to the common phase it drops.
 TEST(GaborKernel, SimplifiedTermEqualsLiteralEquations) {
     const SurfacePoint at_centre{0.37, 0.21, -0.14};
     const Point2 centre{13.25, -7.75};
@@ -111,7 +110,7 @@ TEST(GaborKernel, SimplifiedTermEqualsLiteralEquations) {
         point.vy = v.y;
         point.xi3_over_lambda = xi3 / lambda;
         // The dropped phase: e^{i2π(x_c·v + ξ3 H_ref/λ)}.
-        const double common = 2.0 * kPi * (x_c.x * v.x + x_c.y * v.y + xi3 * reference_height / lambda);
+        const double common = 2.0 * pi * (x_c.x * v.x + x_c.y * v.y + xi3 * reference_height / lambda);
         const std::complex<double> simplified = gabor::sum_transforms(kernels, 0, 1, point, grid) *
                                                 std::complex<double>(std::cos(common), -std::sin(common));
         EXPECT_LT(std::abs(simplified - expected), 1e-9 * std::abs(expected));
@@ -130,7 +129,7 @@ double flat_mirror_albedo(DiffractionModel model, double sigma_um, int resolutio
     set_heightfield(query, make_heightfield(64, 64, 1.0));
     query.footprint.centre_um = {20.0, 30.0};
     query.footprint.sigma_um = sigma_um;
-    query.omega_i = direction_from_spherical(30.0 * kPi / 180.0, 40.0 * kPi / 180.0);
+    query.omega_i = direction_from_spherical(30.0 * pi / 180.0, 40.0 * pi / 180.0);
     query.material.name = "Al";
     query.resolution = resolution;
     query.supersample = supersample;
@@ -216,7 +215,7 @@ TEST(GaborLobe, ReciprocalModelsAreReciprocal) {
 TEST(GaborSurface, PointQueriesEqualImagePixels) {
     const int resolution = 32;
     LobeQuery query = isotropic_query(resolution);
-    query.omega_i = direction_from_spherical(20.0 * kPi / 180.0, 200.0 * kPi / 180.0);
+    query.omega_i = direction_from_spherical(20.0 * pi / 180.0, 200.0 * pi / 180.0);
     for (const int density : {1, 2}) {
         query.method_options["kernels_per_texel"] = std::to_string(density);
         for (const auto& [model, tolerance] : {std::pair{DiffractionModel::rohs, 1e-4},
@@ -310,7 +309,7 @@ TEST(GaborLobe, RecordsKernelGridInMetadata) {
     EXPECT_EQ(image.metadata.at("gabor.kernels_per_texel"), "3");
     EXPECT_NEAR(std::stod(image.metadata.at("gabor.kernel_spacing_um")), 1.0 / 3.0, 1e-9);
     // 3.25σ_c disc of radius 32.5 µm at 9 kernels per µm²: π·32.5²·9 ≈ 29 865.
-    EXPECT_NEAR(std::stod(image.metadata.at("gabor.kernels")), kPi * 32.5 * 32.5 * 9.0, 100.0);
+    EXPECT_NEAR(std::stod(image.metadata.at("gabor.kernels")), pi * 32.5 * 32.5 * 9.0, 100.0);
     EXPECT_EQ(image.metadata.at("gabor.kernel_truncation_sigmas"), "3");
 }
 
