@@ -277,7 +277,8 @@ public:
             throw read_error(path, std::string("main.xml is not valid XML (") + result.description() + " at byte " +
                                        std::to_string(result.offset) + ")");
         root_ = document_.document_element();
-        if (local_name(root_) != "ISO5436_2")
+        // With or without a namespace prefix; some writers use the standard's old name ISO5436.
+        if (local_name(root_) != "ISO5436_2" && local_name(root_) != "ISO5436")
             throw read_error(
                 path, "main.xml is not an ISO 5436-2 document (root element '" + std::string(root_.name()) + "')");
     }

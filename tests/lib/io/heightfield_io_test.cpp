@@ -371,6 +371,41 @@ TEST(HeightfieldIo, X3pInAFolderLikeX3ptoolsWritesIt) {
     EXPECT_FLOAT_EQ(load_heightfield(path).at(1, 1), 1.0f);
 }
 
+TEST(HeightfieldIo, X3pVariantsAsWrittenInTheField) {
+    // Root without prefix and namespace, or with the standard's old name; the archive with
+    // operating-system litter and an annotation image beside the members, all in one folder.
+    TemporaryDirectory directory;
+    const std::string data = binary(std::vector<double>(12, 2e-6));
+    std::string xml = main_xml({});
+    for (const auto& [from, to] : {std::pair{std::string("<p:ISO5436_2 xmlns:p=\"http://www.opengps.eu/2008/ISO5436_2\">"),
+                                             std::string("<ISO5436_2>")},
+                                   std::pair{std::string("</p:ISO5436_2>"), std::string("</ISO5436_2>")}})
+        xml.replace(xml.find(from), from.size(), to);
+    std::string old_name = xml;
+    old_name.replace(old_name.find("<ISO5436_2>"), 11, "<ISO5436>");
+    old_name.replace(old_name.find("</ISO5436_2>"), 12, "</ISO5436>");
+    const std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>> variants = {
+        {"plain.x3p", {{"main.xml", xml}, {"bindata/data.bin", data}}},
+        {"old.x3p", {{"main.xml", old_name}, {"bindata/data.bin", data}}},
+        {"litter.x3p",
+         {{"__MACOSX/._main.xml", "junk"}, {"s/.DS_Store", "junk"}, {"s/main.xml", main_xml({})},
+          {"s/bindata/data.bin", data}, {"s/annotations/mask.png", "not read"}}}};
+    for (const auto& [name, members] : variants) {
+        SCOPED_TRACE(name);
+        write_zip(directory.file(name), members);
+        const Heightfield field = load_heightfield(directory.file(name));
+        EXPECT_EQ(field.cols, 4);
+        EXPECT_EQ(field.rows, 3);
+        EXPECT_EQ(field.texel_um, 1.0);
+        EXPECT_FLOAT_EQ(field.at(2, 3), 2.0f);
+    }
+    std::string wrong = xml;
+    wrong.replace(wrong.find("<ISO5436_2>"), 11, "<ISO25178>");
+    wrong.replace(wrong.find("</ISO5436_2>"), 12, "</ISO25178>");
+    write_zip(directory.file("wrong.x3p"), {{"main.xml", wrong}, {"bindata/data.bin", data}});
+    EXPECT_NE(load_error(directory.file("wrong.x3p")).find("root element 'ISO25178'"), std::string::npos);
+}
+
 TEST(HeightfieldIo, X3pNonSquareSpacingNeedsAnExplicitTexel) {
     TemporaryDirectory directory;
     const std::string path = directory.file("rect.x3p");
