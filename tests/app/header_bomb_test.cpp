@@ -1,4 +1,4 @@
-// Files whose headers claim enormous images (decompression bombs) are refused from the header,
+// Files whose headers claim enormous images (PNG, EXR, NPY, TIFF, X3P) are refused from the header,
 // in well under a second and 200 MB, with one line and no library chatter (libpng's own
 // "libpng error" lines used to appear beside ours).
 #include <gtest/gtest.h>
@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cli_runner.hpp"
+#include "zip_files.hpp"
 #include "glintscope/heightfield.hpp"
 #include "glintscope/heightfield_io.hpp"
 
@@ -34,6 +35,11 @@ void put_be32(std::string& bytes, std::size_t at, std::uint32_t value) {
 
 void put_le32(std::string& bytes, std::size_t at, std::uint32_t value) {
     for (int k = 0; k < 4; ++k) bytes[at + k] = static_cast<char>((value >> (8 * k)) & 0xff);
+}
+
+void put_le16(std::string& bytes, std::size_t at, std::uint16_t value) {
+    bytes[at] = static_cast<char>(value & 0xff);
+    bytes[at + 1] = static_cast<char>(value >> 8);
 }
 
 // CRC-32 of PNG chunks (ISO 3309 polynomial, reflected).
@@ -89,9 +95,51 @@ std::string npy_bomb(const TemporaryDirectory& directory) {
     return directory.file("bomb.npy");
 }
 
+// A little-endian baseline TIFF: one 16-bit grey strip of 8 × 8 samples, whose ImageWidth and
+// ImageLength tags (LONG) then claim 100000 × 100000.
+std::string tiff_bomb(const TemporaryDirectory& directory) {
+    const int entries = 9;
+    const std::uint32_t data_offset = 8 + 2 + entries * 12 + 4;
+    std::string bytes = std::string("II*\0", 4) + std::string(4, '\0');
+    put_le32(bytes, 4, 8);
+    std::string ifd(2 + entries * 12 + 4, '\0');
+    put_le16(ifd, 0, entries);
+    const std::array<std::array<std::uint32_t, 3>, entries> tags = {{{256, 4, 100000}, {257, 4, 100000}, {258, 3, 16},
+                                                                      {259, 3, 1}, {262, 3, 1}, {273, 4, data_offset},
+                                                                      {277, 3, 1}, {278, 4, 100000}, {279, 4, 128}}};
+    for (int k = 0; k < entries; ++k) {
+        const std::size_t at = 2 + 12 * k;
+        put_le16(ifd, at, static_cast<std::uint16_t>(tags[k][0]));
+        put_le16(ifd, at + 2, static_cast<std::uint16_t>(tags[k][1]));
+        put_le32(ifd, at + 4, 1);
+        if (tags[k][1] == 3)
+            put_le16(ifd, at + 8, static_cast<std::uint16_t>(tags[k][2]));
+        else
+            put_le32(ifd, at + 8, tags[k][2]);
+    }
+    write_bytes(directory.file("bomb.tif"), bytes + ifd + std::string(128, '\1'));
+    return directory.file("bomb.tif");
+}
+
+// The tool's own X3P of a small crop, whose main.xml then claims 100000 × 100000 points.
+std::string x3p_bomb(const TemporaryDirectory& directory) {
+    const CliResult made = run_cli({"convert", "builtin:grating", directory.file("s.x3p"), "--crop", "0,0,2um,2um"});
+    EXPECT_EQ(made.exit_code, 0) << made.output;
+    std::string xml = read_zip_member(directory.file("s.x3p"), "main.xml");
+    for (const std::string tag : {"SizeX", "SizeY"}) {
+        const std::size_t open = xml.find("<" + tag + ">"), close = xml.find("</" + tag + ">");
+        EXPECT_NE(open, std::string::npos) << tag;
+        xml.replace(open + tag.size() + 2, close - open - tag.size() - 2, "100000");
+    }
+    const std::string data = read_zip_member(directory.file("s.x3p"), "bindata/data.bin");
+    EXPECT_TRUE(write_zip(directory.file("bomb.x3p"), {{"main.xml", xml}, {"bindata/data.bin", data}}));
+    return directory.file("bomb.x3p");
+}
+
 TEST(HeaderBomb, EachFormatIsRefusedFromItsHeaderQuicklyAndSmall) {
     const TemporaryDirectory directory;
-    for (const std::string& path : {png_bomb(directory), exr_bomb(directory), npy_bomb(directory)}) {
+    for (const std::string& path : {png_bomb(directory), exr_bomb(directory), npy_bomb(directory),
+                                    tiff_bomb(directory), x3p_bomb(directory)}) {
         const auto start = std::chrono::steady_clock::now();
         const CliResult result = run_cli({"info", path});
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

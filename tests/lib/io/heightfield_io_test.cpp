@@ -17,6 +17,7 @@
 #include <zip.h>
 
 #include "cli_runner.hpp"
+#include "zip_files.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/heightfield_io.hpp"
 #include "core/md5.hpp"
@@ -71,32 +72,12 @@ void expect_identical_heights(const Heightfield& expected, const Heightfield& ac
 
 // ---- helpers for hand-made X3P archives ----
 
+// write_zip fails the test when libzip does.
 void write_zip(const std::string& path, const std::vector<std::pair<std::string, std::string>>& members) {
-    int code = 0;
-    zip_t* archive = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &code);
-    ASSERT_NE(archive, nullptr);
-    for (const auto& [name, contents] : members) {
-        zip_source_t* source = zip_source_buffer(archive, contents.data(), contents.size(), 0);
-        ASSERT_GE(zip_file_add(archive, name.c_str(), source, ZIP_FL_OVERWRITE), 0);
-    }
-    ASSERT_EQ(zip_close(archive), 0);
+    ASSERT_TRUE(testing::write_zip(path, members)) << path;
 }
 
-std::string read_zip_member(const std::string& path, const std::string& name) {
-    int code = 0;
-    zip_t* archive = zip_open(path.c_str(), ZIP_RDONLY, &code);
-    if (!archive) return {};
-    zip_stat_t stat;
-    std::string contents;
-    if (zip_stat(archive, name.c_str(), 0, &stat) == 0) {
-        contents.resize(stat.size);
-        zip_file_t* file = zip_fopen(archive, name.c_str(), 0);
-        zip_fread(file, contents.data(), stat.size);
-        zip_fclose(file);
-    }
-    zip_discard(archive);
-    return contents;
-}
+using testing::read_zip_member;
 
 struct X3pSpec {
     std::string size_x = "4";
