@@ -40,7 +40,8 @@ void check_footprint(const MethodInfo& method, const Footprint& footprint) {
 }
 
 void check_option_keys(const MethodInfo& method, const LobeQuery& query) {
-    for (const auto& [key, value] : query.method_options) {
+    for (const auto& option_value : query.method_options) {
+        const std::string& key = option_value.first;  // a plain reference: lambdas may capture it
         const bool known = std::any_of(method.options.begin(), method.options.end(),
                                        [&](const MethodOption& option) { return option.key == key; });
         if (known) continue;

@@ -15,6 +15,15 @@
 #include "gabor.hpp"
 #include "glintscope/parallel.hpp"
 
+// AVX2 and portable clones of a function that must stay out of line (GCC would otherwise inline
+// the portable clone into its caller). Clang never inlines a multiversioned function and
+// refuses noinline beside target_clones.
+#if defined(__clang__)
+#define GLINTSCOPE_OUT_OF_LINE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define GLINTSCOPE_OUT_OF_LINE_CLONES [[gnu::noinline]] __attribute__((target_clones("arch=x86-64-v3", "default")))
+#endif
+
 namespace glintscope {
 namespace {
 
@@ -145,7 +154,7 @@ using Int8 = int __attribute__((vector_size(32)));
 // window's chord [first, last] whose differences lie within the bounds, their columns listed in
 // `columns` and counted. 8 slots are written per leaf and the count advanced by its survivors,
 // so that no branch depends on which kernels survive.
-__attribute__((target_clones("arch=x86-64-v3", "default"))) [[gnu::noinline]]
+GLINTSCOPE_OUT_OF_LINE_CLONES
 std::size_t list_row_survivors(const float* below, const float* row, const float* above, int cols,
                                const int* leaf_columns, std::size_t leaf_count, long long first, long long last,
                                const DifferenceBounds& bounds, int* columns) {
@@ -289,7 +298,7 @@ struct SampledRow {
 // H(c − 1))·(½/dx), which rounds identically (halving is exact). Out of line and on local
 // copies: inlined into the query, the loop ran out of registers and reloaded everything from
 // memory; without wrapped columns it vectorises (gathers) where the CPU has AVX2.
-__attribute__((target_clones("arch=x86-64-v3", "default"))) [[gnu::noinline]]
+GLINTSCOPE_OUT_OF_LINE_CLONES
 void append_sampled_kernels(const SampledRow& r, const int* columns, std::size_t count,
                             gabor::KernelArrays& kernels) {
     const std::size_t at = kernels.extend(count);
