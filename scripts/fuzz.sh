@@ -13,8 +13,8 @@ command -v clang++ > /dev/null || { echo "fuzz.sh: clang++ is missing (apt-get i
 cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLINTSCOPE_FUZZ=ON \
   -DGLINTSCOPE_SANITIZE=ON -DGLINTSCOPE_BUILD_TESTS=OFF -DGLINTSCOPE_BUILD_BENCHMARKS=OFF > /dev/null
 cmake --build "$build" -j"$(nproc)" --target heightfield_fuzzer recipe_fuzzer manifest_fuzzer
-export ASAN_OPTIONS=detect_leaks=1
-export LSAN_OPTIONS=suppressions=$(pwd)/tests/sanitizer/lsan.supp
+export ASAN_OPTIONS=detect_leaks=1:fast_unwind_on_malloc=0
+export LSAN_OPTIONS=suppressions=$(pwd)/tests/sanitizer/lsan.supp:print_suppressions=0
 status=0
 for target in heightfield recipe manifest; do
   corpus="$build/corpus/$target"

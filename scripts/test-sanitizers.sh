@@ -11,7 +11,13 @@ command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLINTSCOPE_SANITIZE=ON \
   -DGLINTSCOPE_BUILD_BENCHMARKS=OFF "${launcher[@]}" > /dev/null
 cmake --build "$build" -j"$(nproc)"
-export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
+# Slow unwinding on malloc: the image libraries are built without frame pointers, and only full
+# stacks let the suppressions name the library a leak comes from.
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:fast_unwind_on_malloc=0
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 export LSAN_OPTIONS=suppressions=$(pwd)/tests/sanitizer/lsan.supp:print_suppressions=0
-ctest --test-dir "$build" --output-on-failure -j"$(nproc)" --timeout 1200
+# Left out, with the reason: the thread-refusal test runs glintscope under `ulimit -v 1.5 GB`, and
+# AddressSanitizer needs terabytes of address space for its shadow memory, so the child cannot
+# even start there (the normal run covers it).
+ctest --test-dir "$build" --output-on-failure -j"$(nproc)" --timeout 1200 \
+  -E "ResourceLimitsCommand.ThreadsTheSystemRefusesAreDoneWithout"
