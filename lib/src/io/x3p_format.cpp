@@ -23,6 +23,7 @@
 // main.xml (md5checksum.hex) and of the binary files, and the provenance in Record2's Comment.
 // The main.xml checksum is not verified on reading: it is often stale in real files (the
 // CSAFE example's is), and the zip CRCs already catch corrupted data.
+#include <algorithm>
 #include <bit>
 #include <cctype>
 #include <charconv>
@@ -42,6 +43,7 @@
 
 #include "formats.hpp"
 #include "core/md5.hpp"
+#include "glintscope/text_format.hpp"
 
 namespace glintscope {
 namespace {
@@ -221,6 +223,18 @@ public:
                 return std::string(entry.substr(0, slash + 1));
         }
         throw read_error(path_, "not a valid X3P file (the archive has no main.xml)");
+    }
+
+    // Members other than `used` (and folders): annotation images, operating-system litter.
+    std::vector<std::string> other_members(const std::vector<std::string>& used) const {
+        std::vector<std::string> others;
+        const zip_int64_t count = zip_get_num_entries(archive_, 0);
+        for (zip_int64_t i = 0; i < count; ++i) {
+            const char* name = zip_get_name(archive_, static_cast<zip_uint64_t>(i), 0);
+            if (!name || std::string_view(name).ends_with('/')) continue;
+            if (std::find(used.begin(), used.end(), name) == used.end()) others.emplace_back(name);
+        }
+        return others;
     }
 
     zip_uint64_t size_of(zip_uint64_t index, const std::string& name) const {
@@ -606,6 +620,12 @@ Heightfield read_x3p(const std::string& path, const LoadOptions& options) {
     Heightfield field = make_heightfield(rows, cols, conversion.texel_um);
     field.units_assumed = conversion.units_assumed;
     field.provenance = read_provenance(doc);
+    // Annotation masks (PNG layers some tools add) have no meaning the standard fixes: not read,
+    // but named, so that `info` tells the user what was left aside.
+    std::vector<std::string> used = {folder + "main.xml", folder + "md5checksum.hex", folder + layout.data_link};
+    if (!layout.valid_link.empty()) used.push_back(folder + layout.valid_link);
+    if (const std::vector<std::string> others = zip.other_members(used); !others.empty())
+        field.provenance["x3p:not_read"] = join(others);
     for (int j = 0; j < rows; ++j) {
         for (int i = 0; i < cols; ++i) {
             const std::size_t index = static_cast<std::size_t>(j) * cols + i;
