@@ -176,7 +176,7 @@ TEST(HeaderBomb, EachFormatIsRefusedFromItsHeaderQuicklyAndSmall) {
                                     tiff_bomb(directory), x3p_bomb(directory)}) {
         CliResult result;
         double seconds = 0.0;
-        const long megabytes = info_peak_megabytes(path, result, seconds);
+        [[maybe_unused]] const long megabytes = info_peak_megabytes(path, result, seconds);
         EXPECT_NE(result.exit_code, 0) << path;
         EXPECT_EQ(result.output.find("libpng"), std::string::npos) << result.output;
         EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
