@@ -1,6 +1,7 @@
 // The table of methods: one line per method. A method's entry (name, description, reference,
 // quantities, ignored query fields, options, compute function) lives in its own folder.
 #include "method.hpp"
+#include "methods/discrete/discrete_lobe.hpp"
 #include "methods/dk/kirchhoff_distribution.hpp"
 #include "methods/fft/fft_lobe.hpp"
 #include "methods/filtered/filtered_ndf.hpp"
@@ -20,6 +21,7 @@ const std::vector<MethodEntry>& method_table() {
         filtered_method(),
         geometric_method(),
         dk_method(),
+        discrete_method(),
     };
     return table;
 }

@@ -1,0 +1,212 @@
+#include "methods/discrete/discrete_lobe.hpp"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "glintscope/error.hpp"
+#include "glintscope/material.hpp"
+#include "glintscope/ndf_models.hpp"
+#include "glintscope/parallel.hpp"
+#include "glintscope/text_format.hpp"
+
+namespace glintscope {
+namespace {
+
+constexpr double kMaxTileFlakes = 9e15;  // counts stay exact integers in a double (2^53)
+
+NormalDensity smooth_distribution(const LobeQuery& query, std::string& name, double& alpha_x, double& alpha_y) {
+    name = method_option_text(query, "distribution", "beckmann");
+    const double alpha = method_option_number(query, "alpha", 0.2);
+    alpha_x = method_option_number(query, "alpha_x", alpha);
+    alpha_y = method_option_number(query, "alpha_y", alpha);
+    for (const double a : {alpha_x, alpha_y})
+        if (!(a >= 0.005 && a <= 2.0)) throw Error("option alpha must be between 0.005 and 2, got " + shortest_text(a));
+    const double ax = alpha_x, ay = alpha_y;
+    if (name == "beckmann") return [ax, ay](Vec3 m) { return m.z > 0.0 ? beckmann_ndf(ax, ay, m) * m.z : 0.0; };
+    if (name == "ggx") return [ax, ay](Vec3 m) { return m.z > 0.0 ? ggx_ndf(ax, ay, m) * m.z : 0.0; };
+    throw Error("option distribution must be beckmann or ggx, got '" + name + "'");
+}
+
+// The default cone: the solid angle of one pixel at the centre of the disk, πγ² = (2/N)².
+double default_cone(int resolution) { return 2.0 / (std::sqrt(pi) * resolution); }
+
+FlakeFootprint flake_footprint(const Footprint& footprint) {
+    FlakeFootprint flake;
+    flake.centre_x = footprint.centre_um.x;
+    flake.centre_y = footprint.centre_um.y;
+    flake.gaussian = footprint.shape == FootprintShape::gaussian;
+    flake.sigma_um = footprint.sigma_um;
+    flake.size_um = footprint.size_um;
+    return flake;
+}
+
+}  // namespace
+
+void setup_discrete(const LobeQuery& query, DiscreteSetup& setup) {
+    std::string distribution;
+    double alpha_x = 0.0, alpha_y = 0.0;
+    setup.integrals = integrate_distribution(smooth_distribution(query, distribution, alpha_x, alpha_y));
+    setup.footprint = flake_footprint(query.footprint);
+    const double tile = method_option_length_um(query, "tile", 1000.0);
+    const double reach = setup.footprint.gaussian ? 5.0 * setup.footprint.sigma_um : 0.5 * setup.footprint.size_um;
+    if (!(tile >= 4.0 * reach && tile <= 1e6))
+        throw Error("option tile must be at least four times the footprint's reach (" + shortest_text(4.0 * reach) +
+                    " um) and at most 1 m, got " + shortest_text(tile) + " um");
+    const bool by_density = query.method_options.contains("flake_density");
+    if (by_density && query.method_options.contains("flakes"))
+        throw Error("options flakes and flake_density are alternatives: give one");
+    const double area = setup.footprint.area_um2();
+    setup.density_per_um2 = by_density ? method_option_number(query, "flake_density", 0.0)
+                                       : method_option_number(query, "flakes", 1e6) / area;
+    const double tile_flakes = std::round(setup.density_per_um2 * tile * tile);
+    if (!(tile_flakes >= 1.0 && tile_flakes <= kMaxTileFlakes))
+        throw Error("the tile would hold " + shortest_text(tile_flakes) + " flakes: choose flakes (or flake_density) so that "
+                    "the tile holds between 1 and 9e15");
+    setup.density_per_um2 = tile_flakes / (tile * tile);  // the density the integer count realises
+    const double cone_deg = method_option_number(query, "cone", default_cone(query.resolution) * 180.0 / pi);
+    if (!(cone_deg >= 1e-4 && cone_deg <= 30.0))
+        throw Error("option cone must be between 0.0001 and 30 degrees, got " + shortest_text(cone_deg));
+    setup.cone = cone_deg * pi / 180.0;
+    setup.epsilon = method_option_number(query, "error", 0.1);
+    if (!(setup.epsilon >= 0.0 && setup.epsilon <= 1.0))
+        throw Error("option error must be between 0 and 1, got " + shortest_text(setup.epsilon));
+    const double seed = method_option_number(query, "seed", 1.0);
+    if (!(seed >= 0.0 && seed <= 9e15 && seed == std::floor(seed)))
+        throw Error("option seed must be a whole number from 0 to 9e15, got " + shortest_text(seed));
+    setup.material.normals = &setup.integrals;
+    setup.material.tile_um = tile;
+    setup.material.flakes = tile_flakes;
+    setup.material.seed = static_cast<std::uint64_t>(seed);
+    // Eq. 11's expected query area: the region the footprint's weight reaches (a Gaussian's ±5σ_c
+    // square, whose every node the traversal visits), not its effective area A_c.
+    setup.material.query_area_um2 = 4.0 * reach * reach;
+    // Eq. 11's expected solid angle: the set Ω_h at the centre of the image (a cap of γ/2 for a lobe,
+    // of γ for an NDF).
+    const double cap = query.quantity == Quantity::ndf ? setup.cone : 0.5 * setup.cone;
+    setup.material.query_solid_angle = 2.0 * pi * (1.0 - std::cos(cap));
+}
+
+namespace {
+
+// What one sub-pixel contributes before Fresnel: D̂ for an NDF, f_r/F for a lobe.
+struct PixelQuery {
+    SphericalConic conic;
+    double scale = 0.0;  // value = scale × weighted count
+    Vec3 h;
+};
+
+PixelQuery pixel_query(const LobeQuery& query, const DiscreteSetup& setup, DiskPoint p) {
+    const double fraction_per_flake = 1.0 / (setup.density_per_um2 * setup.footprint.area_um2());
+    PixelQuery pixel;
+    if (query.quantity == Quantity::ndf) {
+        pixel.h = direction_from_disk(p.x, p.y);
+        pixel.conic = spherical_conic(pixel.h, pixel.h, 2.0 * setup.cone);  // the cap of γ about h
+        // ∫_cap m_z dω = h_z π sin²γ: the cap's projected area, so that D̂ → D (Jakob 2014 eq. 6).
+        const double sine = std::sin(setup.cone);
+        pixel.scale = fraction_per_flake / (pixel.h.z * pi * sine * sine);
+        return pixel;
+    }
+    const Vec3 omega_i = query.omega_i;
+    const Vec3 omega_o = direction_from_disk(p.x, p.y);
+    pixel.h = normalize(omega_i + omega_o);
+    pixel.conic = spherical_conic(omega_i, omega_o, setup.cone);  // Jakob 2014 eq. 8
+    const double cone_solid_angle = 2.0 * pi * (1.0 - std::cos(setup.cone));
+    // Jakob 2014 eq. 5 with D̂ the flakes' share of projected area: the 1/h_z turns it into the
+    // microfacet lobe F D G/(4 cosθ_i cosθ_o) averaged over the cone as N → ∞ (docs/discrete.md).
+    pixel.scale = fraction_per_flake * dot(omega_i, pixel.h) /
+                  (cone_solid_angle * pixel.h.z * omega_i.z * omega_o.z);
+    return pixel;
+}
+
+struct QueryTotals {
+    std::vector<std::vector<double>> sums;  // [layer][pixel]: Σ over sub-pixels
+    double nodes = 0.0;
+    double queries = 0.0;
+};
+
+QueryTotals evaluate_pixels(const LobeQuery& query, const DiscreteSetup& setup) {
+    const int n = query.resolution;
+    const int k = query.supersample;
+    const std::size_t layers = query.wavelengths_um.size();
+    const bool fresnel = query.quantity == Quantity::brdf && !query.material.name.empty();
+    std::vector<ComplexIndex> eta(layers);
+    if (fresnel)
+        for (std::size_t l = 0; l < layers; ++l) eta[l] = complex_refractive_index(query.material.name, query.wavelengths_um[l]);
+    QueryTotals totals;
+    totals.sums.assign(layers, std::vector<double>(static_cast<std::size_t>(n) * n, 0.0));
+    std::vector<double> row_nodes(n, 0.0), row_queries(n, 0.0);
+    parallel_for(static_cast<std::size_t>(n), 1, [&](std::size_t begin, std::size_t end) {
+        SplitCache cache;
+        for (std::size_t r = begin; r < end; ++r)
+            for (int c = 0; c < n; ++c) {
+                const std::size_t pixel = r * n + c;
+                if (!inside_unit_disk(disk_pixel_point(static_cast<int>(r), c, n))) continue;
+                for (int a = 0; a < k; ++a)
+                    for (int b = 0; b < k; ++b) {
+                        const DiskPoint p = disk_subpixel_point(static_cast<int>(r), c, a, b, n, k);
+                        if (!inside_unit_disk(p)) continue;
+                        const PixelQuery q = pixel_query(query, setup, p);
+                        const FlakeCount count = count_flakes(setup.material, setup.footprint, q.conic, setup.epsilon, &cache);
+                        row_nodes[r] += static_cast<double>(count.nodes);
+                        row_queries[r] += 1.0;
+                        const double value = q.scale * count.weighted;
+                        for (std::size_t l = 0; l < layers; ++l)
+                            totals.sums[l][pixel] += fresnel ? fresnel_conductor(eta[l], dot(query.omega_i, q.h)) * value : value;
+                    }
+            }
+    });
+    for (int r = 0; r < n; ++r) {
+        totals.nodes += row_nodes[r];
+        totals.queries += row_queries[r];
+    }
+    return totals;
+}
+
+LobeImage discrete_lobe(const LobeQuery& query) {
+    DiscreteSetup setup;
+    setup_discrete(query, setup);
+    const QueryTotals totals = evaluate_pixels(query, setup);
+    LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um, query.quantity);
+    for (std::size_t l = 0; l < totals.sums.size(); ++l) store_subpixel_means(image, l, totals.sums[l], query.supersample);
+    Provenance& m = image.metadata;
+    m["discrete.flakes_in_footprint"] = shortest_text(setup.density_per_um2 * setup.footprint.area_um2());
+    m["discrete.flakes_in_tile"] = shortest_text(setup.material.flakes);
+    m["discrete.flake_density_per_um2"] = shortest_text(setup.density_per_um2);
+    m["discrete.distribution"] = method_option_text(query, "distribution", "beckmann");
+    m["discrete.cone_deg"] = shortest_text(setup.cone * 180.0 / pi);
+    m["discrete.seed"] = std::to_string(setup.material.seed);
+    m["discrete.tile_um"] = shortest_text(setup.material.tile_um);
+    m["discrete.error"] = shortest_text(setup.epsilon);
+    m["discrete.table_entries"] = std::to_string(setup.integrals.table.size());
+    m["discrete.nodes_per_query"] = shortest_text(totals.queries > 0.0 ? std::round(totals.nodes / totals.queries) : 0.0);
+    return image;
+}
+
+}  // namespace
+
+MethodEntry discrete_method() {
+    MethodEntry entry;
+    entry.info.name = "discrete";
+    entry.info.description = "discrete stochastic microfacets: N glittering flakes counted per pixel cone";
+    entry.info.reference = "Jakob 2014 eq. 5-10";
+    entry.info.quantities = {Quantity::brdf, Quantity::ndf};
+    entry.info.ignored = {QueryField::model};
+    entry.info.options = {
+        {"flakes", "flakes in the footprint (box area, or A_c = pi sigma_c^2 for a Gaussian) (default 1e6)"},
+        {"flake_density", "flakes per um^2, instead of flakes"},
+        {"distribution", "beckmann or ggx: the smooth distribution of flake normals (default beckmann)"},
+        {"alpha", "roughness of the distribution (default 0.2)"},
+        {"alpha_x", "roughness along x (default alpha)"},
+        {"alpha_y", "roughness along y (default alpha)"},
+        {"cone", "degrees: half-angle of each pixel's cone of directions, omega_o for brdf, h for ndf "
+                 "(default: one centre pixel's solid angle)"},
+        {"seed", "which flakes: a whole number (default 1)"},
+        {"tile", "side of the periodic square of flakes (default 1000um)"},
+        {"error", "relative error allowed where the count is estimated, eq. 10 (default 0.1)"},
+    };
+    entry.compute = discrete_lobe;
+    return entry;
+}
+
+}  // namespace glintscope
