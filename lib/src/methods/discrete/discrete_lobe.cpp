@@ -1,21 +1,31 @@
 #include "methods/discrete/discrete_lobe.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "geometric/normal_density.hpp"
 #include "glintscope/error.hpp"
 #include "glintscope/material.hpp"
 #include "glintscope/ndf_models.hpp"
 #include "glintscope/parallel.hpp"
 #include "glintscope/text_format.hpp"
+#include "numerics/disk_table.hpp"
 
 namespace glintscope {
 namespace {
 
 constexpr double kMaxTileFlakes = 9e15;  // counts stay exact integers in a double (2^53)
 
-NormalDensity smooth_distribution(const LobeQuery& query, std::string& name, double& alpha_x, double& alpha_y) {
+struct SmoothDistribution {
+    NormalDensity density;
+    int table_depth = 16;  // Algorithm 2's deepest table level
+};
+
+SmoothDistribution smooth_distribution(const LobeQuery& query, std::string& name, double& alpha_x, double& alpha_y) {
     name = method_option_text(query, "distribution", "beckmann");
     const double alpha = method_option_number(query, "alpha", 0.2);
     alpha_x = method_option_number(query, "alpha_x", alpha);
@@ -23,9 +33,20 @@ NormalDensity smooth_distribution(const LobeQuery& query, std::string& name, dou
     for (const double a : {alpha_x, alpha_y})
         if (!(a >= 0.005 && a <= 2.0)) throw Error("option alpha must be between 0.005 and 2, got " + shortest_text(a));
     const double ax = alpha_x, ay = alpha_y;
-    if (name == "beckmann") return [ax, ay](Vec3 m) { return m.z > 0.0 ? beckmann_ndf(ax, ay, m) * m.z : 0.0; };
-    if (name == "ggx") return [ax, ay](Vec3 m) { return m.z > 0.0 ? ggx_ndf(ax, ay, m) * m.z : 0.0; };
-    throw Error("option distribution must be beckmann or ggx, got '" + name + "'");
+    if (name == "beckmann") return {[ax, ay](Vec3 m) { return m.z > 0.0 ? beckmann_ndf(ax, ay, m) * m.z : 0.0; }};
+    if (name == "ggx") return {[ax, ay](Vec3 m) { return m.z > 0.0 ? ggx_ndf(ax, ay, m) * m.z : 0.0; }};
+    if (name == "pndf") {
+        // The surface's own exact P-NDF of the footprint, at up to 4× the image's resolution and
+        // read bilinearly: glitter with the angular structure of the heightfield's normals.
+        auto table = std::make_shared<DiskTable>();
+        table->resolution = std::min(4 * query.resolution, 1024);
+        table->values = normal_density(*query.surface, query.footprint, table->resolution, NormalDensitySettings{});
+        // Below the table's pixel the density is bilinear, which the shares of linear weights
+        // follow: the hash table stops at triangles of about a pixel, (π/2)/2^(d−1) ≤ 2/N.
+        const int depth = 1 + static_cast<int>(std::ceil(std::log2(0.25 * pi * table->resolution)));
+        return {[table](Vec3 m) { return m.z > 0.0 ? table->at(m.x, m.y) * m.z : 0.0; }, depth};
+    }
+    throw Error("option distribution must be beckmann, ggx or pndf, got '" + name + "'");
 }
 
 // The default cone: the solid angle of one pixel at the centre of the disk, πγ² = (2/N)².
@@ -46,7 +67,8 @@ FlakeFootprint flake_footprint(const Footprint& footprint) {
 void setup_discrete(const LobeQuery& query, DiscreteSetup& setup) {
     std::string distribution;
     double alpha_x = 0.0, alpha_y = 0.0;
-    setup.integrals = integrate_distribution(smooth_distribution(query, distribution, alpha_x, alpha_y));
+    SmoothDistribution smooth = smooth_distribution(query, distribution, alpha_x, alpha_y);
+    setup.integrals = integrate_distribution(std::move(smooth.density), 1e-2, 1e-8, smooth.table_depth);
     setup.footprint = flake_footprint(query.footprint);
     const double tile = method_option_length_um(query, "tile", 1000.0);
     const double reach = setup.footprint.gaussian ? 5.0 * setup.footprint.sigma_um : 0.5 * setup.footprint.size_um;
@@ -195,8 +217,9 @@ MethodEntry discrete_method() {
     entry.info.options = {
         {"flakes", "flakes in the footprint (box area, or A_c = pi sigma_c^2 for a Gaussian) (default 1e6)"},
         {"flake_density", "flakes per um^2, instead of flakes"},
-        {"distribution", "beckmann or ggx: the smooth distribution of flake normals (default beckmann)"},
-        {"alpha", "roughness of the distribution (default 0.2)"},
+        {"distribution", "beckmann, ggx, or pndf (the heightfield's own P-NDF of the footprint): the smooth "
+                         "distribution of flake normals (default beckmann)"},
+        {"alpha", "roughness of beckmann or ggx (default 0.2)"},
         {"alpha_x", "roughness along x (default alpha)"},
         {"alpha_y", "roughness along y (default alpha)"},
         {"cone", "degrees: half-angle of each pixel's cone of directions, omega_o for brdf, h for ndf "

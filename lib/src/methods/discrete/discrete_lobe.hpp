@@ -1,6 +1,7 @@
 #pragma once
 // Jakob 2014 "Discrete Stochastic Microfacet Models": a surface of N mirror flakes with normals
-// drawn from a smooth distribution (Beckmann or GGX, isotropic or not), answering the query's
+// drawn from a smooth distribution (Beckmann or GGX, isotropic or not, or the heightfield's own
+// P-NDF of the footprint), answering the query's
 // footprint through a cone of directions per pixel. With quantity ndf a pixel at h counts the
 // flakes whose normal lies in the cap of half-angle γ about h; with brdf a pixel at ω_o counts those
 // reflecting ω_i into the cone of half-angle γ about ω_o (Jakob 2014 eq. 8) and applies eq. 5.
