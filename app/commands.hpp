@@ -17,5 +17,6 @@ void add_ndf_command(CLI::App& app);
 void add_validate_command(CLI::App& app);
 void add_batch_command(CLI::App& app);
 void add_fit_command(CLI::App& app);
+void add_glints_command(CLI::App& app);
 
 }  // namespace glintscope::cli

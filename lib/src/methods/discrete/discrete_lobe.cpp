@@ -9,6 +9,7 @@
 
 #include "geometric/normal_density.hpp"
 #include "glintscope/error.hpp"
+#include "glintscope/glint_map.hpp"
 #include "glintscope/material.hpp"
 #include "glintscope/ndf_models.hpp"
 #include "glintscope/parallel.hpp"
@@ -185,6 +186,12 @@ QueryTotals evaluate_pixels(const LobeQuery& query, const DiscreteSetup& setup) 
     return totals;
 }
 
+// F at the first wavelength, for one direction pair (1 without a material).
+double fresnel_at(const LobeQuery& query, Vec3 h) {
+    if (query.material.name.empty()) return 1.0;
+    return fresnel_conductor(complex_refractive_index(query.material.name, query.wavelengths_um[0]), dot(query.omega_i, h));
+}
+
 LobeImage discrete_lobe(const LobeQuery& query) {
     DiscreteSetup setup;
     setup_discrete(query, setup);
@@ -206,6 +213,43 @@ LobeImage discrete_lobe(const LobeQuery& query) {
 }
 
 }  // namespace
+
+MethodEntry discrete_method();
+
+ScalarImage discrete_glint_map(const LobeQuery& lobe_query, Vec3 omega_o, int size, double step_um) {
+    LobeQuery query = lobe_query;
+    query.quantity = Quantity::brdf;
+    validate(query);
+    const MethodInfo info = discrete_method().info;
+    for (const auto& entry : query.method_options)
+        if (std::none_of(info.options.begin(), info.options.end(), [&](const MethodOption& o) { return o.key == entry.first; }))
+            throw Error("discrete has no option '" + entry.first + "'");
+    if (!(size >= 1 && size <= 4096)) throw Error("glint map size must be 1 to 4096 positions, got " + std::to_string(size));
+    if (!(step_um > 0.0 && step_um <= 1e5)) throw Error("glint map step must be above 0 and at most 10 cm, got " + shortest_text(step_um));
+    if (!(std::isfinite(omega_o.z) && omega_o.z > 0.0 && std::abs(length(omega_o) - 1.0) < 1e-9))
+        throw Error("the outgoing direction must be a unit vector above the surface");
+    // Exact counts unless asked otherwise: eq. 10's estimates stand in for whole nodes of flakes,
+    // which a moving footprint shows as the tree's squares.
+    if (!query.method_options.contains("error")) query.method_options.insert_or_assign("error", std::string("0"));
+    DiscreteSetup setup;
+    setup_discrete(query, setup);
+    const PixelQuery pixel = pixel_query(query, setup, DiskPoint{omega_o.x, omega_o.y});
+    const double scale = pixel.scale * fresnel_at(query, pixel.h);
+    ScalarImage map{size, size, std::vector<float>(static_cast<std::size_t>(size) * size, 0.0f)};
+    const double middle = 0.5 * (size - 1);
+    parallel_for(static_cast<std::size_t>(size), 1, [&](std::size_t begin, std::size_t end) {
+        SplitCache cache;
+        for (std::size_t r = begin; r < end; ++r)
+            for (int c = 0; c < size; ++c) {
+                FlakeFootprint footprint = setup.footprint;
+                footprint.centre_x += (c - middle) * step_um;
+                footprint.centre_y += (middle - static_cast<double>(r)) * step_um;
+                const FlakeCount count = count_flakes(setup.material, footprint, pixel.conic, setup.epsilon, &cache);
+                map.values[r * size + c] = static_cast<float>(scale * count.weighted);
+            }
+    });
+    return map;
+}
 
 MethodEntry discrete_method() {
     MethodEntry entry;
