@@ -1,6 +1,7 @@
 #include "methods/discrete/flake_hierarchy.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -221,14 +222,26 @@ double leaf_count(const FlakeMaterial& material, const FlakeFootprint& footprint
 
 // Where eq. 10 stops, Jakob 2014 adds the node's expected share n·p. That keeps the mean but not
 // the spread: at tens of flakes per pixel a tenth of the glitter's contrast would be lost. We draw
-// the share instead, from the node's own stream, as c·Binomial(n, π) with the mean m·p and the
-// variance n(q·p − m²p²) of the flakes' weighted count (m, q: the footprint weight's mean and mean
-// square over the node): c = q/m, π = m²p/q; for a box (q = m) exactly Binomial(n, m·p). The one
-// uniform per node couples queries: a larger share never draws fewer flakes.
-double estimated_share(const FlakeMaterial& material, const FlakeNode& node, const SpatialShare& space, double p) {
+// the share instead as c·Binomial(n, π) with the mean m·p and the variance n(q·p − m²p²) of the
+// flakes' weighted count (m, q: the footprint weight's mean and mean square over the node):
+// c = q/m, π = m²p/q; for a box (q = m) exactly Binomial(n, m·p). The draw is seeded by the node
+// and the query: seeded by the node alone, every pixel whose cone a node serves would deviate
+// alike and the lobe would show the node's triangle.
+double estimated_share(const FlakeMaterial& material, const FlakeNode& node, const SpatialShare& space, double p,
+                       std::uint64_t query_key) {
     if (space.mean <= 0.0 || p <= 0.0) return 0.0;
     const double scale = space.mean_square / space.mean;
-    return scale * binomial_draw(node.count, std::min(1.0, space.mean * p / scale), material.seed, node.label, 3);
+    const std::uint64_t label = CounterRng(node.label, query_key).bits(0);
+    return scale * binomial_draw(node.count, std::min(1.0, space.mean * p / scale), material.seed, label, 3);
+}
+
+// A key for the query: the bits of its directions and footprint centre.
+std::uint64_t query_key(const SphericalConic& conic, const FlakeFootprint& footprint) {
+    std::uint64_t key = 0;
+    for (const double value : {conic.axis.x, conic.axis.y, conic.axis.z, conic.facing.x, conic.facing.y, conic.facing.z,
+                               conic.c[0][0], footprint.centre_x, footprint.centre_y})
+        key = CounterRng(key, std::bit_cast<std::uint64_t>(value)).bits(0);
+    return key;
 }
 
 constexpr std::size_t kCacheEntries = 1 << 16;
@@ -265,6 +278,7 @@ FlakeCount count_flakes(const FlakeMaterial& material, const FlakeFootprint& raw
     const double expected = material.flakes / (material.tile_um * material.tile_um) * footprint.area_um2() *
                             conic_integral(*material.normals, conic, material.query_solid_angle);
     const double floor = 0.5 * expected;
+    const std::uint64_t key = query_key(conic, footprint);
     for (std::size_t head = 0; head < queue.size(); ++head) {
         const FlakeNode node = queue[head].node;
         const SpatialShare space = queue[head].space;
@@ -292,7 +306,7 @@ FlakeCount count_flakes(const FlakeMaterial& material, const FlakeFootprint& raw
             const double mean = n * space.mean * p;
             const double variance = n * (space.mean_square * p - space.mean * space.mean * p * p);
             if (std::sqrt(std::max(variance, 0.0)) < epsilon * (std::max(result.weighted, floor) + mean) || at_floor) {
-                result.weighted += estimated_share(material, node, space, p);
+                result.weighted += estimated_share(material, node, space, p, key);
                 continue;
             }
         } else if (at_floor) {
