@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Reproduces, with our own surfaces, the Gabor paper's Fig. 10 (geometric vs wave optics) and
 # Fig. 11 (Gabor vs FFT), and Dong 2015's Fig. 8-9 NDF comparisons (P-NDF, filtered NDF, D_K on
-# 70 um patches of the brushed surface, with slices across and along the brushing), into OUT
-# (default out/). Usage: scripts/reproduce-figures.sh [OUT] [fig10|fig11|dong ...]
+# 70 um patches of the brushed surface, with slices across and along the brushing), and Jakob
+# 2014's discrete flakes converging to the smooth model with a glint map, into OUT (default out/).
+# Usage: scripts/reproduce-figures.sh [OUT] [fig10|fig11|dong|discrete ...]
 # Needs a build (scripts/setup.sh) and, for the slice plot, Debian's python3-matplotlib.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -10,7 +11,7 @@ glintscope=${GLINTSCOPE_BUILD_DIR:-build}/app/glintscope
 out=${1:-out}
 shift || true
 which=("$@")
-[ ${#which[@]} -gt 0 ] || which=(fig10 fig11 dong)
+[ ${#which[@]} -gt 0 ] || which=(fig10 fig11 dong discrete)
 mkdir -p "$out"
 
 for figure in "${which[@]}"; do
@@ -33,6 +34,14 @@ for figure in "${which[@]}"; do
         "P-NDF=$out/dong-brushed-pndf" "filtered, 1 um=$out/dong-brushed-filtered" "D_K, 555 nm=$out/dong-brushed-dk"
       echo "slices: $out/dong-slices.png"
       ;;
-    *) echo "unknown figure '$figure' (fig10, fig11, dong)" >&2; exit 2 ;;
+    discrete)
+      cp figures/discrete.toml "$out/"
+      "$glintscope" batch "$out/discrete.toml"
+      for flakes in 1e4 1e6; do
+        "$glintscope" glints --outgoing 10,180 --incident 10,0 --flakes "$flakes" --size 128 --spacing 1um \
+          -o "$out/discrete-glints-$flakes.png"
+      done
+      ;;
+    *) echo "unknown figure '$figure' (fig10, fig11, dong, discrete)" >&2; exit 2 ;;
   esac
 done
