@@ -96,6 +96,7 @@ struct WavelengthSetup {
     // e^{−i2π Δξ (H − H̄)/λ} per sample, Δξ the node spacing: stepping R* from one ξ3 node to the
     // next by one multiplication instead of a sincos (GHS, R-GHS, Kirchhoff only).
     std::vector<Complex> node_step;
+    const ReflectionSource* source = nullptr;  // else the exact R*
 };
 
 // e^{−i2π ξ (H(s) − H̄)/λ} at every sample, times w(s − x_c) if `weighted`: then it is R*(s) of
@@ -140,8 +141,11 @@ int component_count(DiffractionModel model) { return model == DiffractionModel::
 // First pass: every sample row (and component) transformed along x to all K·N sub-columns, stored
 // column-major (result[(c·cols + m)·ny + k]) for the second pass. Rows go in blocks of 8 so that
 // the transposed writes fill whole cache lines.
-void transform_rows(const WavelengthSetup& setup, const std::vector<Complex>& reflection, const ChirpZ& along_x,
-                    int cols, std::vector<Complex>& result) {
+// `parts` holds the Kirchhoff components H_x R*, H_y R* when a source gave them; otherwise they
+// are formed from R* and the grid's slopes.
+void transform_rows(const WavelengthSetup& setup, const std::vector<Complex>& reflection,
+                    const std::vector<std::vector<Complex>>& parts, const ChirpZ& along_x, int cols,
+                    std::vector<Complex>& result) {
     const FootprintSamples& samples = setup.samples;
     const int nx = samples.x.count;
     const int ny = samples.y.count;
@@ -153,8 +157,12 @@ void transform_rows(const WavelengthSetup& setup, const std::vector<Complex>& re
         for (std::size_t k = begin; k < end; ++k)
             for (int c = 0; c < components; ++c) {
                 const Complex* row = &reflection[k * nx];
-                const std::vector<double>* slope = c == 1 ? &samples.slope_x : &samples.slope_y;
-                for (int j = 0; j < nx; ++j) input[j] = c == 0 ? row[j] : row[j] * (*slope)[k * nx + j];
+                if (c > 0 && parts.size() > static_cast<std::size_t>(c)) {
+                    std::copy_n(&parts[c][k * nx], nx, input.begin());
+                } else {
+                    const std::vector<double>* slope = c == 1 ? &samples.slope_x : &samples.slope_y;
+                    for (int j = 0; j < nx; ++j) input[j] = c == 0 ? row[j] : row[j] * (*slope)[k * nx + j];
+                }
                 along_x.transform(input.data(), &output[((k - begin) * components + c) * cols], workspace.get());
             }
         for (int c = 0; c < components; ++c)
@@ -209,9 +217,11 @@ std::vector<Complex> transformed_field(const WavelengthSetup& setup, const Subpi
     std::vector<Complex> field(grid.omega_o.size());
     std::vector<Complex> rows_result(static_cast<std::size_t>(component_count(setup.query->model)) * grid.cols *
                                      setup.samples.y.count);
-    std::vector<Complex> reflection = phase_factors(setup, slices.node(slices.first), true);
+    std::vector<std::vector<Complex>> parts;  // a source's components
+    std::vector<Complex> reflection;
+    if (!setup.source) reflection = phase_factors(setup, slices.node(slices.first), true);
     for (int node = slices.first; node <= slices.last; ++node) {
-        if (node > slices.first)
+        if (!setup.source && node > slices.first)
             parallel_for(reflection.size(), 4096, [&](std::size_t begin, std::size_t end) {
                 for (std::size_t s = begin; s < end; ++s)
                     reflection[s] = multiply(reflection[s], setup.node_step[s]);
@@ -220,7 +230,12 @@ std::vector<Complex> transformed_field(const WavelengthSetup& setup, const Subpi
         for (int m = 0; m < grid.cols; ++m)
             if (use.lowest_node[m] <= node && node <= use.highest_node[m]) columns.push_back(m);
         if (columns.empty()) continue;
-        transform_rows(setup, reflection, along_x, grid.cols, rows_result);
+        if (setup.source) {
+            setup.source->fill(setup.samples, slices.node(node), setup.lambda_um, parts);
+            reflection.swap(parts[0]);
+        }
+        transform_rows(setup, reflection, parts, along_x, grid.cols, rows_result);
+        if (setup.source) reflection.swap(parts[0]);
         transform_columns(setup, grid, use, node, columns, rows_result, along_y, field);
     }
     return field;
@@ -282,10 +297,10 @@ FootprintSamples sample_on_axes(const LobeQuery& query, const FootprintExtent& e
 // final grid finds steeper slopes than the estimate, the step is recomputed with them.
 FootprintSamples sample_for_wavelength(const LobeQuery& query, const ScatteringGeometry& geometry,
                                        const FootprintExtent& extent, const FftSettings& settings, double lambda_um,
-                                       double xi3_max, SlopeBound slopes) {
+                                       double xi3_max, SlopeBound slopes, const ReflectionSource* source) {
     if (settings.step_um > 0.0) return sample_on_axes(query, extent, settings.step_um, settings.step_um);
-    const double guard = settings.guard_widths * extent.spectral_width;
-    const double q = settings.oversampling;
+    const double guard = settings.guard_widths * extent.spectral_width + (source ? source->bandwidth : 0.0);
+    const double q = source && source->smooth ? 1.0 : settings.oversampling;
     const double psi_max_x = std::fabs(geometry.offset.x) + geometry.scale;
     const double psi_max_y = std::fabs(geometry.offset.y) + geometry.scale;
     for (int attempt = 0;; ++attempt) {
@@ -380,7 +395,7 @@ double energy_inside(const Footprint& footprint, const Heightfield& field) {
 }  // namespace
 
 void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometry, const ScatteringFactor& factor,
-                       LobeImage& image) {
+                       LobeImage& image, const ReflectionSource* source) {
     const FftSettings settings = fft_settings(query);
     const FootprintExtent extent = footprint_extent(query.footprint, settings.window_sigmas);
     // ξ3 over the image: 2, or ψ_z = o_z + k·cos θ_o with cos θ_o ∈ (0, 1].
@@ -395,11 +410,13 @@ void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometr
         setup.query = &query;
         setup.geometry = geometry;
         setup.lambda_um = image.wavelengths_um[layer];
-        setup.samples = sample_for_wavelength(query, geometry, extent, settings, setup.lambda_um, xi3_max, slopes);
+        setup.source = source;
+        setup.samples =
+            sample_for_wavelength(query, geometry, extent, settings, setup.lambda_um, xi3_max, slopes, source);
         if (settings.truncate_at_edges) truncate_at_edges(setup.samples, *query.field);
         setup.slices = choose_xi3_slices(query.model, setup.samples, setup.lambda_um, xi3_min, xi3_max,
                                          settings.phase_error, kMaxXi3Slices);
-        if (setup.slices.nodes_per_unit)
+        if (setup.slices.nodes_per_unit && !source)
             setup.node_step = phase_factors(setup, 1.0 / setup.slices.nodes_per_unit, false);
         fill_layer(setup, extent, factor, image, layer);
         record.add(setup);

@@ -20,7 +20,11 @@
 //   phase_error  GHS, R-GHS, Kirchhoff: bound ε on the ξ3 interpolation error, in units of a flat
 //                mirror's peak amplitude ∫|w| ds (default 0.01).
 // The metadata records per wavelength "fft.step_um", "fft.grid", "fft.xi3_slices".
+#include <complex>
 #include <functional>
+#include <vector>
+
+#include "numerics/footprint_grid.hpp"
 
 #include "lobe/method.hpp"
 
@@ -38,11 +42,26 @@ struct ScatteringGeometry {
 // (a lobe: ξ1·λ² of Yan 2018 Fig. 6 with the Fresnel factor).
 using ScatteringFactor = std::function<double(const Vec3& psi, const Vec3& omega, double lambda_um)>;
 
+// A field other than the exact R* to transform (the Gabor method's kernel sum): at a ξ3 node, its
+// components on the footprint grid, index k·x.count + j for s = (x_j, y_k): R*, and for Kirchhoff
+// H_x R* and H_y R* (ξ2 is applied by the transforms), with heights taken about the grid's
+// mean_height_um. `bandwidth` (cycles/µm) is the field's spectral reach beyond its local
+// frequencies ξ3 H'/λ, added to the alias-free step's guard; its local frequencies need no
+// oversampling (q = 1) when `smooth` is set.
+struct ReflectionSource {
+    std::function<void(const FootprintSamples& grid, double xi3, double lambda_um,
+                       std::vector<std::vector<std::complex<double>>>& components)>
+        fill;
+    double bandwidth = 0.0;
+    bool smooth = false;
+};
+
 // Fills every layer λ of `image` (resolution and wavelengths set) with the K×K sub-pixel mean of
-// factor · |R̃*(ψ̄/λ)|²/(A_c λ²), R̃* of the query's model, footprint and options as above, and
-// records the grid in the metadata ("fft.*"). Throws Error on a bad option or a grid too large.
+// factor · |R̃*(ψ̄/λ)|²/(A_c λ²), R̃* of the query's model, footprint and options as above (or of
+// `source`'s field), and records the grid in the metadata ("fft.*"). Throws Error on a bad option
+// or a grid too large.
 void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometry, const ScatteringFactor& factor,
-                       LobeImage& image);
+                       LobeImage& image, const ReflectionSource* source = nullptr);
 
 // The options above, checked.
 struct FftSettings {

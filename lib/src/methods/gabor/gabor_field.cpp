@@ -1,0 +1,156 @@
+#include "gabor_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <memory>
+#include <vector>
+
+#include "glintscope/parallel.hpp"
+
+namespace glintscope::gabor {
+namespace {
+
+using Complex = std::complex<double>;
+
+constexpr int kBandRows = 16;  // grid rows per parallel band
+
+// One axis of a kernel's splat: grid indices [first, first + count) within kSplatSigmas σ of m.
+struct AxisSpan {
+    int first = 0;
+    int count = 0;
+};
+
+AxisSpan axis_span(const SampleAxis& axis, double m, double sigma) {
+    const double reach = kSplatSigmas * sigma;
+    const int first = std::max(0, static_cast<int>(std::ceil((m - reach - axis.first_um) / axis.step_um)));
+    const int last = std::min(axis.count - 1, static_cast<int>(std::floor((m + reach - axis.first_um) / axis.step_um)));
+    return {first, std::max(0, last - first + 1)};
+}
+
+// What does not change from one ξ3 node to the next on a grid: every kernel's spans, its Gaussian
+// factors e^{−d²/(2σ²)} along both axes (offsets into `gauss`), and the kernels reaching each band
+// of grid rows, in kernel order (so every grid point sums its kernels in one order, whatever the
+// thread count).
+struct SplatPlan {
+    int nx = 0, ny = 0;
+    double x_first = 0.0, y_first = 0.0, x_step = 0.0, y_step = 0.0;
+    std::vector<AxisSpan> x_span, y_span;
+    std::vector<std::size_t> x_offset, y_offset;
+    std::vector<double> gauss;
+    std::vector<std::vector<std::size_t>> by_band;
+
+    bool fits(const FootprintSamples& s) const {
+        return nx == s.x.count && ny == s.y.count && x_first == s.x.first_um && y_first == s.y.first_um &&
+               x_step == s.x.step_um && y_step == s.y.step_um;
+    }
+};
+
+void add_gaussian(const SampleAxis& axis, AxisSpan span, double m, double sigma, std::vector<double>& gauss) {
+    for (int j = span.first; j < span.first + span.count; ++j) {
+        const double d = axis.first_um + j * axis.step_um - m;
+        gauss.push_back(std::exp(-d * d / (2.0 * sigma * sigma)));
+    }
+}
+
+SplatPlan plan_splat(const KernelArrays& kernels, const FootprintSamples& samples, Point2 centre, double sigma) {
+    SplatPlan plan;
+    plan.nx = samples.x.count;
+    plan.ny = samples.y.count;
+    plan.x_first = samples.x.first_um;
+    plan.y_first = samples.y.first_um;
+    plan.x_step = samples.x.step_um;
+    plan.y_step = samples.y.step_um;
+    plan.by_band.resize((plan.ny + kBandRows - 1) / kBandRows);
+    for (std::size_t k = 0; k < kernels.size(); ++k) {
+        const double mx = centre.x + kernels.px[k], my = centre.y + kernels.py[k];
+        const AxisSpan sx = axis_span(samples.x, mx, sigma), sy = axis_span(samples.y, my, sigma);
+        plan.x_span.push_back(sx);
+        plan.y_span.push_back(sy);
+        plan.x_offset.push_back(plan.gauss.size());
+        add_gaussian(samples.x, sx, mx, sigma, plan.gauss);
+        plan.y_offset.push_back(plan.gauss.size());
+        add_gaussian(samples.y, sy, my, sigma, plan.gauss);
+        if (sx.count == 0 || sy.count == 0) continue;
+        for (int band = sy.first / kBandRows; band <= (sy.first + sy.count - 1) / kBandRows; ++band)
+            plan.by_band[band].push_back(k);
+    }
+    return plan;
+}
+
+// factors[j] = gauss[j] e^{−i2π f (s_j − m)} over a span, the phase stepped by one multiplication.
+void phase_factors(const SampleAxis& axis, AxisSpan span, const double* gauss, double m, double frequency,
+                   std::vector<double>& re, std::vector<double>& im) {
+    re.resize(span.count);
+    im.resize(span.count);
+    const double d0 = axis.first_um + span.first * axis.step_um - m;
+    const double turns = frequency * d0 - std::nearbyint(frequency * d0);
+    double c = std::cos(2.0 * pi * turns), s = -std::sin(2.0 * pi * turns);
+    const double step_c = std::cos(2.0 * pi * frequency * axis.step_um), step_s = -std::sin(2.0 * pi * frequency * axis.step_um);
+    for (int j = 0; j < span.count; ++j) {
+        re[j] = gauss[j] * c;
+        im[j] = gauss[j] * s;
+        const double next = c * step_c - s * step_s;
+        s = c * step_s + s * step_c;
+        c = next;
+    }
+}
+
+// row[j] += factor · (x_re[j] + i x_im[j]) in plain arithmetic (std::complex's product checks for
+// infinities in every multiplication).
+void add_row(Complex* row, double f_re, double f_im, const std::vector<double>& x_re, const std::vector<double>& x_im) {
+    double* values = reinterpret_cast<double*>(row);
+    for (std::size_t j = 0; j < x_re.size(); ++j) {
+        values[2 * j] += f_re * x_re[j] - f_im * x_im[j];
+        values[2 * j + 1] += f_re * x_im[j] + f_im * x_re[j];
+    }
+}
+
+}  // namespace
+
+ReflectionSource kernel_field_source(const KernelArrays& kernels, const KernelGrid& grid, Point2 centre_um,
+                                     double reference_height_um, bool kirchhoff) {
+    ReflectionSource source;
+    source.bandwidth = kSplatSigmas / (2.0 * pi * grid.sigma_um);
+    source.smooth = true;
+    auto plan = std::make_shared<SplatPlan>();  // remade when the grid changes (another wavelength)
+    source.fill = [&kernels, grid, centre_um, reference_height_um, kirchhoff, plan](
+                      const FootprintSamples& samples, double xi3, double lambda_um, std::vector<std::vector<Complex>>& out) {
+        if (!plan->fits(samples)) *plan = plan_splat(kernels, samples, centre_um, grid.sigma_um);
+        const int nx = samples.x.count, ny = samples.y.count;
+        out.resize(kirchhoff ? 3 : 1);
+        for (std::vector<Complex>& component : out) component.assign(static_cast<std::size_t>(nx) * ny, Complex{});
+        const double xi3_over_lambda = xi3 / lambda_um;
+        const double height_offset = reference_height_um - samples.mean_height_um;
+        const double normalisation = 1.0 / (2.0 * pi * grid.sigma_um * grid.sigma_um);  // G_2D
+        parallel_for(plan->by_band.size(), 1, [&](std::size_t begin, std::size_t end) {
+            std::vector<double> x_re, x_im, y_re, y_im;
+            for (std::size_t band = begin; band < end; ++band) {
+                const int row_begin = static_cast<int>(band) * kBandRows;
+                const int row_end = std::min(ny, row_begin + kBandRows);
+                for (const std::size_t k : plan->by_band[band]) {
+                    const AxisSpan sx = plan->x_span[k], sy = plan->y_span[k];
+                    // Yan 2018 eq. 14-15, the phase of a_k·m_k folded into the local (s − m_k)·a_k.
+                    phase_factors(samples.x, sx, &plan->gauss[plan->x_offset[k]], centre_um.x + kernels.px[k],
+                                  xi3_over_lambda * kernels.slope_x[k], x_re, x_im);
+                    phase_factors(samples.y, sy, &plan->gauss[plan->y_offset[k]], centre_um.y + kernels.py[k],
+                                  xi3_over_lambda * kernels.slope_y[k], y_re, y_im);
+                    const Complex c = kernels.weight[k] * normalisation *
+                                      std::polar(1.0, -2.0 * pi * xi3_over_lambda * (kernels.height[k] + height_offset));
+                    for (int r = std::max(row_begin, sy.first); r < std::min(row_end, sy.first + sy.count); ++r) {
+                        const double f_re = c.real() * y_re[r - sy.first] - c.imag() * y_im[r - sy.first];
+                        const double f_im = c.real() * y_im[r - sy.first] + c.imag() * y_re[r - sy.first];
+                        const std::size_t at = static_cast<std::size_t>(r) * nx + sx.first;
+                        add_row(&out[0][at], f_re, f_im, x_re, x_im);
+                        if (!kirchhoff) continue;
+                        add_row(&out[1][at], f_re * kernels.slope_x[k], f_im * kernels.slope_x[k], x_re, x_im);
+                        add_row(&out[2][at], f_re * kernels.slope_y[k], f_im * kernels.slope_y[k], x_re, x_im);
+                    }
+                }
+            }
+        });
+    };
+    return source;
+}
+
+}  // namespace glintscope::gabor
