@@ -16,6 +16,6 @@ namespace glintscope::gabor {
 ReflectionSource kernel_field_source(const KernelArrays& kernels, const KernelGrid& grid, Point2 centre_um,
                                      double reference_height_um, bool kirchhoff);
 
-constexpr double kSplatSigmas = 5.0;  // e^{−12.5} ≈ 4e-6 of a kernel's peak is cut, in space and spectrum
+constexpr double kSplatSigmas = 4.0;  // e^{−8} ≈ 3e-4 of a kernel's peak is cut, in space and spectrum
 
 }  // namespace glintscope::gabor

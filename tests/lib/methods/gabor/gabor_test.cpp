@@ -271,8 +271,8 @@ TEST(GaborSurface, SpectralQueryEqualsSingleWavelengthQueries) {
 // kernels as the image method, which reads the periodic interpolant directly.
 // Both densities: K = 1 tests and reads the samples' differences across the seam itself.
 // The default evaluation sums the kernels in space on the FFT grid and transforms them; it is the
-// same lobe as the closed-form sum of the kernels' transforms (uncut: kernel_truncation 5, where
-// the grid cuts each kernel at 5σ in space), for every model.
+// same lobe as the closed-form sum of the kernels' transforms (uncut: kernel_truncation 5), up to
+// the grid's cut of each kernel at 4σ in space (e^{−8} ≈ 3e-4 of its peak), for every model.
 TEST(GaborLobe, GridEvaluationIsTheClosedFormSum) {
     LobeQuery query = isotropic_query(32);
     query.omega_i = direction_from_spherical(0.35, 0.5);
@@ -286,7 +286,7 @@ TEST(GaborLobe, GridEvaluationIsTheClosedFormSum) {
         query.method_options.erase("kernel_truncation");
         const LobeImage grid = compute_lobe("gabor", query);
         const LayerComparison difference = compare_lobes(grid, products).at(0);
-        EXPECT_LT(difference.relative_l2, 1e-4) << to_string(model);  // measured 2e-6 at 48², phase_error 1e-4
+        EXPECT_LT(difference.relative_l2, 5e-4) << to_string(model);  // measured 2.3e-4 (2e-6 with a 5σ cut)
     }
 }
 
