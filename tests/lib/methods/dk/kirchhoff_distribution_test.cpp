@@ -7,11 +7,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "glintscope/compare.hpp"
 #include "glintscope/generate.hpp"
 #include "disk_sums.hpp"
 #include "glintscope/lobe.hpp"
+#include "glintscope/ndf_models.hpp"
 #include "glintscope/statistics.hpp"
 
 namespace glintscope {
@@ -153,6 +156,52 @@ TEST(KirchhoffDistribution, SmoothRandomSurfaceShowsTheCoherentSpikeOfWeightExpM
     RecordProperty("spike_weight", std::to_string(spike));
     RecordProperty("exp_minus_g", std::to_string(std::exp(-g)));
     EXPECT_NEAR(spike, std::exp(-g), 0.025);
+}
+
+// A paraboloid H = −|s|²/(2R) has slopes −s/R: under the Gaussian weight |w|²/A_c (std σ_c/√2 per
+// axis) they are Gaussian with std σ_c/(√2 R), so its geometric NDF is exactly Beckmann with
+// α = σ_c/R (its P-NDF matches to 0.07%), and D_K's stationary-phase limit is that NDF. The heights
+// under the weight spread by σ_h = σ_c²/(2R) = 0.5 µm. Pixel means of 8×8 sub-samples, as the
+// reference: relative L2 0.34% at λ_q = 1 µm (σ_h/λ_q = 0.5), 0.040% at 0.25 µm (2), the rest the
+// window's diffraction blur, ∝ λ_q. (A random field approaches its Beckmann NDF only through its
+// finite patch statistics as well, and needs ~10⁷ samples per footprint at λ_q ≪ σ_h.)
+TEST(KirchhoffDistribution, ApproachesBeckmannWhenHeightsFarExceedTheWavelength) {
+    const double radius = 100.0, sigma_c = 10.0, alpha = sigma_c / radius;
+    Heightfield field = make_heightfield(256, 256, 0.5);
+    for (int r = 0; r < 256; ++r)
+        for (int c = 0; c < 256; ++c) {
+            const double x = (c + 0.5) * 0.5 - 64.0, y = 64.0 - (r + 0.5) * 0.5;
+            field.at(r, c) = static_cast<float>(-(x * x + y * y) / (2.0 * radius));
+        }
+    const int resolution = 16;
+    std::vector<double> beckmann(resolution * resolution, 0.0);
+    for (int r = 0; r < resolution; ++r)
+        for (int c = 0; c < resolution; ++c) {
+            if (!inside_unit_disk(disk_pixel_point(r, c, resolution))) continue;
+            for (int a = 0; a < 8; ++a)
+                for (int b = 0; b < 8; ++b) {
+                    const DiskPoint p = disk_subpixel_point(r, c, a, b, resolution, 8);
+                    if (inside_unit_disk(p)) beckmann[r * resolution + c] += beckmann_ndf(alpha, alpha, direction_from_disk(p.x, p.y)) / 64.0;
+                }
+        }
+    std::vector<double> errors;
+    for (const std::string lambda_q : {"1um", "0.25um"}) {
+        LobeQuery query = query_for(field, Quantity::ndf, resolution);
+        query.footprint.sigma_um = sigma_c;
+        query.method_options.insert_or_assign("lambda_q", lambda_q);
+        query.supersample = 8;  // the Beckmann reference's sub-samples
+        query.method_options.insert_or_assign("window", std::string("3"));
+        query.method_options.insert_or_assign("oversampling", std::string("1"));
+        const LobeImage image = compute_lobe("dk", query);
+        double difference = 0.0, norm = 0.0;
+        for (std::size_t k = 0; k < beckmann.size(); ++k) {
+            difference += (image.values[k] - beckmann[k]) * (image.values[k] - beckmann[k]);
+            norm += beckmann[k] * beckmann[k];
+        }
+        errors.push_back(std::sqrt(difference / norm));
+    }
+    EXPECT_LT(errors[1], errors[0] / 4.0);
+    EXPECT_LT(errors[1], 0.002);
 }
 
 TEST(KirchhoffDistribution, WidthMatchesTheFilteredNdfOnARoughSurface) {
