@@ -94,8 +94,10 @@ struct Pixel {
     double v = 0.0;
 };
 
+// Pixel coordinates of normals lie in [0, N]: for them truncation is the floor, and anything
+// below 0 clamps to 0 either way (std::floor is a library call in the portable build).
 int clamp_index(double coordinate, int resolution) {
-    return std::clamp(static_cast<int>(std::floor(coordinate)), 0, resolution - 1);
+    return std::clamp(static_cast<int>(coordinate), 0, resolution - 1);
 }
 
 // Pixel masses kept as differences along each row (N + 1 entries a row): a mass m in pixel c
@@ -122,7 +124,7 @@ struct RowDifferences {
 // each pixel right of the edge, signed by the edge's direction in v. Summed over a closed
 // polygon's edges this is ± the polygon's exact overlap with each pixel (the signed-area
 // coverage of scanline rasterisers).
-void add_edge(const RowDifferences& rows, Pixel a, Pixel b, double density) {
+[[gnu::always_inline]] inline void add_edge(const RowDifferences& rows, Pixel a, Pixel b, double density) {
     if (a.v == b.v) return;
     const int n = rows.resolution;
     const double v_low = std::min(a.v, b.v), v_high = std::max(a.v, b.v);
@@ -192,9 +194,12 @@ void deposit_segment(const RowDifferences& rows, Pixel a, Pixel b, Pixel c, doub
     }
 }
 
-// Spreads `mass` uniformly over the triangle abc: each pixel gets mass × (its overlap area /
-// the triangle's area), through the triangle's three edges (add_edge).
-void deposit_triangle(const RowDifferences& rows, Pixel a, Pixel b, Pixel c, double mass) {
+// A triangle that needs no edges: one inside a single pixel takes its mass there, and one whose
+// image collapsed onto a line its exact 1-D shares (deposit_segment). Returns false for the
+// others, whose coverage is deposited through their edges with density −2·mass/cross (edges taken
+// counter-clockwise in (u, v), cross > 0, give −coverage: the sign makes every triangle, folded or
+// not, add positive mass).
+[[gnu::always_inline]] inline bool deposit_small_triangle(const RowDifferences& rows, Pixel a, Pixel b, Pixel c, double mass, double& density) {
     const int n = rows.resolution;
     const int c0 = clamp_index(std::min({a.u, b.u, c.u}), n);
     const int c1 = clamp_index(std::max({a.u, b.u, c.u}), n);
@@ -202,20 +207,16 @@ void deposit_triangle(const RowDifferences& rows, Pixel a, Pixel b, Pixel c, dou
     const int r1 = clamp_index(std::max({a.v, b.v, c.v}), n);
     if (c0 == c1 && r0 == r1) {
         rows.add(r0, c0, mass);
-        return;
+        return true;
     }
     const double cross = (b.u - a.u) * (c.v - a.v) - (c.u - a.u) * (b.v - a.v);
     const double extent = std::max(c1 - c0, r1 - r0) + 1.0;
     if (std::abs(cross) < 2e-9 * extent * extent) {
         deposit_segment(rows, a, b, c, mass);
-        return;
+        return true;
     }
-    // Edges taken counter-clockwise in (u, v) (cross > 0) give −coverage: orient the density so
-    // that every triangle, folded or not, adds positive mass.
-    const double density = -2.0 * mass / cross;
-    add_edge(rows, a, b, density);
-    add_edge(rows, b, c, density);
-    add_edge(rows, c, a, density);
+    density = -2.0 * mass / cross;
+    return false;
 }
 
 // Where the normal of gradient (H_x, H_y) lands in pixel units: m = (−H_x, −H_y, 1)/|…| at disk
@@ -227,31 +228,63 @@ Pixel normal_pixel(const SurfacePoint& point, double half_resolution) {
 
 constexpr long long kRowsPerEvaluation = 32;
 
-// One cell of side h with lower-left corner (x, y) and corner images p00 (lower left), p10,
-// p01, p11: two triangles, each carrying the weight at its centroid times its area h²/2.
-void deposit_cell(const RowDifferences& rows, const Weight& weight, double x, double y, double h, Pixel p00,
-                  Pixel p10, Pixel p01, Pixel p11) {
+// A grid of cols × rows cells of side h from (x, y), corner images p[b·stride + a] (b along y):
+// two triangles per cell, (p00, p10, p11) and (p00, p11, p01), each carrying the weight at its
+// centroid times its area h²/2, spread uniformly over its image; each edge shared by two
+// triangles is rasterised once with the difference of their densities (add_edge is linear in the
+// density): 3 edges a cell instead of 6, plus the grid's border. `densities` is scratch space.
+[[gnu::always_inline]] inline void deposit_grid(const RowDifferences& rows, const Weight& weight, double x, double y,
+                                                double h, int cols, int rows_of_cells, const Pixel* p, std::size_t stride,
+                                                std::vector<double>& densities) {
+    const std::size_t cells = static_cast<std::size_t>(cols) * rows_of_cells;
+    densities.assign(2 * cells, 0.0);
+    double* lower = densities.data();          // triangle (p00, p10, p11) of cell (a, b)
+    double* upper = densities.data() + cells;  // triangle (p00, p11, p01)
     const double half_area = 0.5 * h * h;
-    const double lower_mass = half_area * weight(x + h * (2.0 / 3.0), y + h / 3.0);
-    const double upper_mass = half_area * weight(x + h / 3.0, y + h * (2.0 / 3.0));
-    if (lower_mass > 0.0) deposit_triangle(rows, p00, p10, p11, lower_mass);
-    if (upper_mass > 0.0) deposit_triangle(rows, p00, p11, p01, upper_mass);
+    for (int b = 0; b < rows_of_cells; ++b)
+        for (int a = 0; a < cols; ++a) {
+            const Pixel p00 = p[b * stride + a], p10 = p[b * stride + a + 1];
+            const Pixel p01 = p[(b + 1) * stride + a], p11 = p[(b + 1) * stride + a + 1];
+            const double xa = x + a * h, yb = y + b * h;
+            const double lower_mass = half_area * weight(xa + h * (2.0 / 3.0), yb + h / 3.0);
+            const double upper_mass = half_area * weight(xa + h / 3.0, yb + h * (2.0 / 3.0));
+            if (lower_mass > 0.0) deposit_small_triangle(rows, p00, p10, p11, lower_mass, lower[b * cols + a]);
+            if (upper_mass > 0.0) deposit_small_triangle(rows, p00, p11, p01, upper_mass, upper[b * cols + a]);
+        }
+    for (int b = 0; b < rows_of_cells; ++b)
+        for (int a = 0; a < cols; ++a) {
+            const Pixel p00 = p[b * stride + a], p10 = p[b * stride + a + 1], p01 = p[(b + 1) * stride + a];
+            const Pixel p11 = p[(b + 1) * stride + a + 1];
+            const double d_lower = lower[b * cols + a], d_upper = upper[b * cols + a];
+            // The diagonal: the lower triangle's p11 → p00 and the upper's p00 → p11.
+            if (d_upper != d_lower) add_edge(rows, p00, p11, d_upper - d_lower);
+            // The bottom: this lower triangle's p00 → p10 and, reversed, the top of the cell below.
+            const double bottom = d_lower - (b > 0 ? upper[(b - 1) * cols + a] : 0.0);
+            if (bottom != 0.0) add_edge(rows, p00, p10, bottom);
+            // The left: the left cell's lower p10 → p11 and, reversed, this upper's p01 → p00.
+            const double left = (a > 0 ? lower[b * cols + a - 1] : 0.0) - d_upper;
+            if (left != 0.0) add_edge(rows, p00, p01, left);
+            if (b == rows_of_cells - 1 && d_upper != 0.0) add_edge(rows, p11, p01, d_upper);  // the top row's tops
+            if (a == cols - 1 && d_lower != 0.0) add_edge(rows, p10, p11, d_lower);           // the right column's rights
+        }
 }
 
-// Subdivisions of a base cell: settings.refinement, doubled while the cell centre's image
-// strays from the bilinear blend of the corner images by more than the tolerance (the stray
-// falls as the square of the subdivision).
+// Subdivisions of a base cell: at least settings.refinement, and the least n whose sub-cells'
+// stray, the cell's own (its centre's image against the bilinear blend of the corner images)
+// over n², is within the tolerance: the stray falls as the square of the subdivision.
 int subdivisions(const NormalDensitySettings& settings, Pixel p00, Pixel p10, Pixel p01, Pixel p11, Pixel centre) {
-    int n = settings.refinement;
+    const int n = settings.refinement;
     if (settings.tolerance_pixels <= 0.0) return n;
     const double stray = std::hypot(centre.u - 0.25 * (p00.u + p10.u + p01.u + p11.u),
                                     centre.v - 0.25 * (p00.v + p10.v + p01.v + p11.v));
-    while (n < kMaxRefinement && stray > settings.tolerance_pixels * n * n) n *= 2;
-    return std::min(n, kMaxRefinement);
+    if (stray <= settings.tolerance_pixels * n * n) return n;
+    const double needed = std::ceil(std::sqrt(stray / settings.tolerance_pixels));
+    return static_cast<int>(std::min<double>(needed, kMaxRefinement));
 }
 
 // Accumulates the base-cell rows [j_begin, j_end) into `rows`.
-void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, const Weight& weight,
+// Compiled twice, for AVX2 + FMA and for the portable baseline (the hot loops above are inlined).
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, const Weight& weight,
                      const NormalDensitySettings& settings, long long j_begin, long long j_end, const RowDifferences& rows) {
     const int resolution = rows.resolution;
     const long long corners_x = lattice.nx + 1;
@@ -259,6 +292,7 @@ void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, 
     const double h = lattice.step;
     std::vector<SurfacePoint> corners, centres, sub;
     std::vector<Pixel> pixels, centre_pixels, sub_pixels;
+    std::vector<double> densities;
     for (long long j0 = j_begin; j0 < j_end; j0 += kRowsPerEvaluation) {
         const long long block_rows = std::min(kRowsPerEvaluation, j_end - j0);
         corners.resize(static_cast<std::size_t>(corners_x * (block_rows + 1)));
@@ -272,6 +306,12 @@ void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, 
         centre_pixels.resize(centres.size());
         for (std::size_t k = 0; k < corners.size(); ++k) pixels[k] = normal_pixel(corners[k], half_resolution);
         for (std::size_t k = 0; k < centres.size(); ++k) centre_pixels[k] = normal_pixel(centres[k], half_resolution);
+        if (settings.tolerance_pixels <= 0.0 && settings.refinement == 1) {
+            // Every cell is undivided: the block is one grid, its inner edges shared.
+            deposit_grid(rows, weight, lattice.x0, y_block, h, static_cast<int>(lattice.nx), static_cast<int>(block_rows),
+                         pixels.data(), static_cast<std::size_t>(corners_x), densities);
+            continue;
+        }
         for (long long j = 0; j < block_rows; ++j) {
             const double y = y_block + j * h;
             const Pixel* lower = &pixels[static_cast<std::size_t>(j * corners_x)];
@@ -281,7 +321,8 @@ void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, 
                 const int n = subdivisions(settings, lower[i], lower[i + 1], upper[i], upper[i + 1],
                                            centre_pixels[static_cast<std::size_t>(j * lattice.nx + i)]);
                 if (n == 1) {
-                    deposit_cell(rows, weight, x, y, h, lower[i], lower[i + 1], upper[i], upper[i + 1]);
+                    const Pixel cell[4] = {lower[i], lower[i + 1], upper[i], upper[i + 1]};
+                    deposit_grid(rows, weight, x, y, h, 1, 1, cell, 2, densities);
                     continue;
                 }
                 const double step = h / n;
@@ -289,12 +330,7 @@ void accumulate_rows(const BicubicInterpolant& surface, const Lattice& lattice, 
                 sub_pixels.resize(sub.size());
                 surface.evaluate_grid(x, y, step, n + 1, n + 1, sub.data());
                 for (std::size_t k = 0; k < sub.size(); ++k) sub_pixels[k] = normal_pixel(sub[k], half_resolution);
-                for (int b = 0; b < n; ++b)
-                    for (int a = 0; a < n; ++a) {
-                        const Pixel* row = &sub_pixels[static_cast<std::size_t>(b) * (n + 1)];
-                        deposit_cell(rows, weight, x + a * step, y + b * step, step, row[a], row[a + 1],
-                                     row[a + n + 1], row[a + n + 2]);
-                    }
+                deposit_grid(rows, weight, x, y, step, n, n, sub_pixels.data(), static_cast<std::size_t>(n) + 1, densities);
             }
         }
     }

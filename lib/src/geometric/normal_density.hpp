@@ -5,7 +5,7 @@
 //
 // Algorithm. The integration domain (the truncated footprint, on the tiled surface) is cut into
 // base cells of one texel aligned with the sample lattice (a box footprint: with its edges).
-// Each base cell is subdivided into n×n cells, n = refinement·2^k with the smallest k for which
+// Each base cell is subdivided into n×n cells, n the least integer ≥ refinement for which
 // the image of the cell centre lies within `tolerance_pixels` of the bilinear blend of the
 // corner images, divided by n² (that stray is the map's second-order part, which shrinks as the
 // square of the cell size); n ≤ 64. Each cell is cut into two triangles. On a triangle the

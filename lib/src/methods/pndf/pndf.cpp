@@ -8,7 +8,7 @@ namespace glintscope {
 std::vector<MethodOption> normal_density_options() {
     return {{"intrinsic_roughness", "radians: Gaussian blur in normal space of that width (Yan 2014) (default 0)"},
             {"refinement", "least cells per texel along each axis, 1-64 (default 1)"},
-            {"tolerance", "pixels: cells are halved until their image is this close to affine, 0 keeps exactly "
+            {"tolerance", "pixels: cells are divided until their image is this close to affine, 0 keeps exactly "
                           "the refinement (default 0.02, whole field 0.1)"}};
 }
 
