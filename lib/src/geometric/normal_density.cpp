@@ -293,24 +293,28 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void accumulate_rows
     std::vector<SurfacePoint> corners, centres, sub;
     std::vector<Pixel> pixels, centre_pixels, sub_pixels;
     std::vector<double> densities;
+    const bool adaptive = settings.tolerance_pixels > 0.0;
     for (long long j0 = j_begin; j0 < j_end; j0 += kRowsPerEvaluation) {
         const long long block_rows = std::min(kRowsPerEvaluation, j_end - j0);
         corners.resize(static_cast<std::size_t>(corners_x * (block_rows + 1)));
-        centres.resize(static_cast<std::size_t>(lattice.nx * block_rows));
         const double y_block = lattice.y0 + j0 * h;
         surface.evaluate_grid(lattice.x0, y_block, h, static_cast<int>(corners_x), static_cast<int>(block_rows + 1),
                               corners.data());
-        surface.evaluate_grid(lattice.x0 + 0.5 * h, y_block + 0.5 * h, h, static_cast<int>(lattice.nx),
-                              static_cast<int>(block_rows), centres.data());
         pixels.resize(corners.size());
-        centre_pixels.resize(centres.size());
         for (std::size_t k = 0; k < corners.size(); ++k) pixels[k] = normal_pixel(corners[k], half_resolution);
-        for (std::size_t k = 0; k < centres.size(); ++k) centre_pixels[k] = normal_pixel(centres[k], half_resolution);
-        if (settings.tolerance_pixels <= 0.0 && settings.refinement == 1) {
+        if (!adaptive && settings.refinement == 1) {
             // Every cell is undivided: the block is one grid, its inner edges shared.
             deposit_grid(rows, weight, lattice.x0, y_block, h, static_cast<int>(lattice.nx), static_cast<int>(block_rows),
                          pixels.data(), static_cast<std::size_t>(corners_x), densities);
             continue;
+        }
+        // The cell centres' images, which decide the adaptive subdivision.
+        centre_pixels.assign(adaptive ? static_cast<std::size_t>(lattice.nx * block_rows) : 0, Pixel{});
+        if (adaptive) {
+            centres.resize(centre_pixels.size());
+            surface.evaluate_grid(lattice.x0 + 0.5 * h, y_block + 0.5 * h, h, static_cast<int>(lattice.nx),
+                                  static_cast<int>(block_rows), centres.data());
+            for (std::size_t k = 0; k < centres.size(); ++k) centre_pixels[k] = normal_pixel(centres[k], half_resolution);
         }
         for (long long j = 0; j < block_rows; ++j) {
             const double y = y_block + j * h;
@@ -318,8 +322,9 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void accumulate_rows
             const Pixel* upper = lower + corners_x;
             for (long long i = 0; i < lattice.nx; ++i) {
                 const double x = lattice.x0 + i * h;
-                const int n = subdivisions(settings, lower[i], lower[i + 1], upper[i], upper[i + 1],
-                                           centre_pixels[static_cast<std::size_t>(j * lattice.nx + i)]);
+                const int n = adaptive ? subdivisions(settings, lower[i], lower[i + 1], upper[i], upper[i + 1],
+                                                      centre_pixels[static_cast<std::size_t>(j * lattice.nx + i)])
+                                       : settings.refinement;
                 if (n == 1) {
                     const Pixel cell[4] = {lower[i], lower[i + 1], upper[i], upper[i + 1]};
                     deposit_grid(rows, weight, x, y, h, 1, 1, cell, 2, densities);
