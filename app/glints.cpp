@@ -13,6 +13,7 @@
 #include "glintscope/text_format.hpp"
 #include "glintscope/units.hpp"
 #include "options.hpp"
+#include "progress.hpp"
 #include "query_flags.hpp"
 
 namespace glintscope::cli {
@@ -34,7 +35,12 @@ void run_glints(const GlintSettings& settings) {
     const LobeQuery query = make_query(text);
     const Vec3 omega_o = direction_from_spherical(degrees_to_radians(settings.outgoing_deg[0]),
                                                   degrees_to_radians(settings.outgoing_deg[1]));
-    const ScalarImage map = discrete_glint_map(query, omega_o, settings.size, settings.step_um);
+    ScalarImage map;
+    {
+        ProgressBar bar("glints");
+        map = discrete_glint_map(query, omega_o, settings.size, settings.step_um,
+                                 [&bar](std::size_t done, std::size_t total) { bar.update(done, total, "rows"); });
+    }
     const auto [low, high] = std::minmax_element(map.values.begin(), map.values.end());
     double sum = 0.0;
     int lit = 0;

@@ -216,7 +216,8 @@ LobeImage discrete_lobe(const LobeQuery& query) {
 
 MethodEntry discrete_method();
 
-ScalarImage discrete_glint_map(const LobeQuery& lobe_query, Vec3 omega_o, int size, double step_um) {
+ScalarImage discrete_glint_map(const LobeQuery& lobe_query, Vec3 omega_o, int size, double step_um,
+                               const std::function<void(std::size_t done, std::size_t total)>& progress) {
     LobeQuery query = lobe_query;
     query.quantity = Quantity::brdf;
     validate(query);
@@ -237,17 +238,23 @@ ScalarImage discrete_glint_map(const LobeQuery& lobe_query, Vec3 omega_o, int si
     const double scale = pixel.scale * fresnel_at(query, pixel.h);
     ScalarImage map{size, size, std::vector<float>(static_cast<std::size_t>(size) * size, 0.0f)};
     const double middle = 0.5 * (size - 1);
-    parallel_for(static_cast<std::size_t>(size), 1, [&](std::size_t begin, std::size_t end) {
-        SplitCache cache;
-        for (std::size_t r = begin; r < end; ++r)
-            for (int c = 0; c < size; ++c) {
-                FlakeFootprint footprint = setup.footprint;
-                footprint.centre_x += (c - middle) * step_um;
-                footprint.centre_y += (middle - static_cast<double>(r)) * step_um;
-                const FlakeCount count = count_flakes(setup.material, footprint, pixel.conic, setup.epsilon, &cache);
-                map.values[r * size + c] = static_cast<float>(scale * count.weighted);
-            }
-    });
+    // Bands of rows, so that progress can be reported between them from this thread.
+    constexpr std::size_t kBandRows = 16;
+    for (std::size_t band = 0; band < static_cast<std::size_t>(size); band += kBandRows) {
+        const std::size_t band_end = std::min<std::size_t>(size, band + kBandRows);
+        parallel_for(band_end - band, 1, [&](std::size_t begin, std::size_t end) {
+            SplitCache cache;
+            for (std::size_t r = band + begin; r < band + end; ++r)
+                for (int c = 0; c < size; ++c) {
+                    FlakeFootprint footprint = setup.footprint;
+                    footprint.centre_x += (c - middle) * step_um;
+                    footprint.centre_y += (middle - static_cast<double>(r)) * step_um;
+                    const FlakeCount count = count_flakes(setup.material, footprint, pixel.conic, setup.epsilon, &cache);
+                    map.values[r * size + c] = static_cast<float>(scale * count.weighted);
+                }
+        });
+        if (progress) progress(band_end, static_cast<std::size_t>(size));
+    }
     return map;
 }
 
