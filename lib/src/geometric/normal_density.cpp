@@ -129,8 +129,18 @@ struct RowDifferences {
     const int n = rows.resolution;
     const double v_low = std::min(a.v, b.v), v_high = std::max(a.v, b.v);
     const double direction = b.v > a.v ? density : -density;
+    const int row_first = clamp_index(v_low, n), row_last = clamp_index(v_high, n);
+    if (row_first == row_last) {
+        // Within one pixel row and column (most edges of small image triangles): no clipping.
+        const double left = std::min(a.u, b.u), right = std::max(a.u, b.u);
+        const int first = clamp_index(left, n);
+        if (first == clamp_index(right, n)) {
+            rows.add_right_of(row_first, first, first + 1.0 - 0.5 * (left + right), direction * (v_high - v_low));
+            return;
+        }
+    }
     const double du_dv = (b.u - a.u) / (b.v - a.v);
-    for (int row = clamp_index(v_low, n); row <= clamp_index(v_high, n); ++row) {
+    for (int row = row_first; row <= row_last; ++row) {
         const double v0 = std::max(v_low, double(row)), v1 = std::min(v_high, row + 1.0);
         if (v1 <= v0) continue;
         const double u0 = a.u + (v0 - a.v) * du_dv, u1 = a.u + (v1 - a.v) * du_dv;
