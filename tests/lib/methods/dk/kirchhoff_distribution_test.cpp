@@ -215,5 +215,38 @@ TEST(KirchhoffDistribution, WidthMatchesTheFilteredNdfOnARoughSurface) {
     EXPECT_NEAR(std::sqrt(dk) / std::sqrt(filtered), 1.0, 0.2);
 }
 
+TEST(KirchhoffDistribution, RoughRandomSurfaceApproachesTheGeometricNdf) {
+    // Dong 2015 §6: when σ_h ≫ λ_q the Kirchhoff distribution tends to the geometric NDF of the
+    // same footprint, the P-NDF (the exact geometric limit, itself tested against Beckmann on a
+    // whole field in tests/lib/methods/pndf). The oracle is the P-NDF of the same footprints and
+    // not Beckmann itself: four footprints hold only ~10 correlation cells each, so their NDF
+    // departs from Beckmann by far more than D_K departs from it. C1 field, σ_h = 3 µm = 5.4 λ_q,
+    // T = 16 µm (per-axis rms slope σ_h√2/T ≈ 0.27), texel 0.5 µm, smooth at the λ_q scale.
+    // What is left between the two: the diffraction blur (λ_q/(4πσ_c) ≈ 0.006 in h) and the
+    // speckle of D_K. The speckle is what the pixels' L2 sees (measured 0.35 at 48², σ_c = 8 µm,
+    // four footprints; a coherent spike or a lobe of the wrong width gives ≳ 1); the rms width
+    // averages it out (measured ratio 1.007). oversampling=1 keeps the FFT grid small (~3 s).
+    Heightfield field = gaussian_field(256, 3.0, 16.0, 0.5);
+    LobeQuery query = query_for(std::move(field), Quantity::ndf, 48);
+    query.footprint.sigma_um = 8.0;
+    query.supersample = 1;
+    query.method_options = {{"oversampling", "1"}};
+    const std::vector<Point2> centres{{32, 32}, {96, 32}, {32, 96}, {96, 96}};
+    const LobeImage dk = compute_mean_lobe("dk", query, centres);
+    query.method_options = {};
+    const LobeImage pndf = compute_mean_lobe("pndf", query, centres);
+    double difference = 0.0, norm = 0.0;
+    for (int r = 0; r < 48; ++r)
+        for (int c = 0; c < 48; ++c) {
+            difference += std::pow(dk.at(0, r, c) - pndf.at(0, r, c), 2);
+            norm += pndf.at(0, r, c) * pndf.at(0, r, c);
+        }
+    const double width_ratio = std::sqrt(second_moment(dk) / second_moment(pndf));
+    RecordProperty("relative_l2", std::to_string(std::sqrt(difference / norm)));
+    RecordProperty("width_ratio", std::to_string(width_ratio));
+    EXPECT_NEAR(width_ratio, 1.0, 0.03);
+    EXPECT_LT(std::sqrt(difference / norm), 0.45);
+}
+
 }  // namespace
 }  // namespace glintscope
