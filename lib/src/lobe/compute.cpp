@@ -30,28 +30,6 @@ void check_quantity(const MethodInfo& method, Quantity quantity) {
                 (able.empty() ? "none" : join(able)) + ")");
 }
 
-void check_footprint(const MethodInfo& method, const Footprint& footprint) {
-    if (footprint.shape != FootprintShape::whole || method.whole_field) return;
-    std::vector<std::string> able;
-    for (const MethodEntry& entry : method_table())
-        if (entry.info.whole_field) able.push_back(entry.info.name);
-    throw Error("method '" + method.name + "' needs a finite footprint, not the whole field (methods that take it: " +
-                (able.empty() ? "none" : join(able)) + ")");
-}
-
-void check_option_keys(const MethodInfo& method, const LobeQuery& query) {
-    for (const auto& option_value : query.method_options) {
-        const std::string& key = option_value.first;  // a plain reference: lambdas may capture it
-        const bool known = std::any_of(method.options.begin(), method.options.end(),
-                                       [&](const MethodOption& option) { return option.key == key; });
-        if (known) continue;
-        std::vector<std::string> keys;
-        for (const MethodOption& option : method.options) keys.push_back(option.key);
-        throw Error("method '" + method.name + "' has no option '" + key + "' (options: " +
-                    (keys.empty() ? "none" : join(keys)) + ")");
-    }
-}
-
 // The query keys (query_keys.hpp) in which a field is written.
 std::vector<std::string> keys_of(QueryField field) {
     switch (field) {
@@ -84,6 +62,28 @@ const std::string& option_text(const LobeQuery& query, const std::string& key) {
 }
 
 }  // namespace
+
+void check_footprint(const MethodInfo& method, const Footprint& footprint) {
+    if (footprint.shape != FootprintShape::whole || method.whole_field) return;
+    std::vector<std::string> able;
+    for (const MethodEntry& entry : method_table())
+        if (entry.info.whole_field) able.push_back(entry.info.name);
+    throw Error("method '" + method.name + "' needs a finite footprint, not the whole field (methods that take it: " +
+                (able.empty() ? "none" : join(able)) + ")");
+}
+
+void check_option_keys(const MethodInfo& method, const LobeQuery& query) {
+    for (const auto& option_value : query.method_options) {
+        const std::string& key = option_value.first;  // a plain reference: lambdas may capture it
+        const bool known = std::any_of(method.options.begin(), method.options.end(),
+                                       [&](const MethodOption& option) { return option.key == key; });
+        if (known) continue;
+        std::vector<std::string> keys;
+        for (const MethodOption& option : method.options) keys.push_back(option.key);
+        throw Error("method '" + method.name + "' has no option '" + key + "' (options: " +
+                    (keys.empty() ? "none" : join(keys)) + ")");
+    }
+}
 
 std::string to_string(QueryField field) {
     switch (field) {

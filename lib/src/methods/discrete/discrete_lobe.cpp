@@ -26,14 +26,13 @@ struct SmoothDistribution {
     int table_depth = 16;  // Algorithm 2's deepest table level
 };
 
-SmoothDistribution smooth_distribution(const LobeQuery& query, std::string& name, double& alpha_x, double& alpha_y) {
-    name = method_option_text(query, "distribution", "beckmann");
+SmoothDistribution smooth_distribution(const LobeQuery& query) {
+    const std::string name = method_option_text(query, "distribution", "beckmann");
     const double alpha = method_option_number(query, "alpha", 0.2);
-    alpha_x = method_option_number(query, "alpha_x", alpha);
-    alpha_y = method_option_number(query, "alpha_y", alpha);
-    for (const double a : {alpha_x, alpha_y})
+    const double ax = method_option_number(query, "alpha_x", alpha);
+    const double ay = method_option_number(query, "alpha_y", alpha);
+    for (const double a : {ax, ay})
         if (!(a >= 0.005 && a <= 2.0)) throw Error("option alpha must be between 0.005 and 2, got " + shortest_text(a));
-    const double ax = alpha_x, ay = alpha_y;
     if (name == "beckmann") return {[ax, ay](Vec3 m) { return m.z > 0.0 ? beckmann_ndf(ax, ay, m) * m.z : 0.0; }};
     if (name == "ggx") return {[ax, ay](Vec3 m) { return m.z > 0.0 ? ggx_ndf(ax, ay, m) * m.z : 0.0; }};
     if (name == "pndf") {
@@ -66,9 +65,7 @@ FlakeFootprint flake_footprint(const Footprint& footprint) {
 }  // namespace
 
 void setup_discrete(const LobeQuery& query, DiscreteSetup& setup) {
-    std::string distribution;
-    double alpha_x = 0.0, alpha_y = 0.0;
-    SmoothDistribution smooth = smooth_distribution(query, distribution, alpha_x, alpha_y);
+    SmoothDistribution smooth = smooth_distribution(query);
     setup.integrals = integrate_distribution(std::move(smooth.density), 1e-2, 1e-8, smooth.table_depth);
     setup.footprint = flake_footprint(query.footprint);
     const double tile = method_option_length_um(query, "tile", 1000.0);
@@ -214,19 +211,17 @@ LobeImage discrete_lobe(const LobeQuery& query) {
 
 }  // namespace
 
-MethodEntry discrete_method();
-
 ScalarImage discrete_glint_map(const LobeQuery& lobe_query, Vec3 omega_o, int size, double step_um,
                                const std::function<void(std::size_t done, std::size_t total)>& progress) {
     LobeQuery query = lobe_query;
     query.quantity = Quantity::brdf;
     validate(query);
     const MethodInfo info = discrete_method().info;
-    for (const auto& entry : query.method_options)
-        if (std::none_of(info.options.begin(), info.options.end(), [&](const MethodOption& o) { return o.key == entry.first; }))
-            throw Error("discrete has no option '" + entry.first + "'");
+    check_footprint(info, query.footprint);
+    check_option_keys(info, query);
     if (!(size >= 1 && size <= 4096)) throw Error("glint map size must be 1 to 4096 positions, got " + std::to_string(size));
-    if (!(step_um > 0.0 && step_um <= 1e5)) throw Error("glint map step must be above 0 and at most 10 cm, got " + shortest_text(step_um));
+    if (!(step_um > 0.0 && step_um <= 1e5))
+        throw Error("glint map spacing must be above 0 and at most 10 cm, got " + shortest_text(step_um) + " um");
     if (!(std::isfinite(omega_o.z) && omega_o.z > 0.0 && std::abs(length(omega_o) - 1.0) < 1e-9))
         throw Error("the outgoing direction must be a unit vector above the surface");
     // Exact counts unless asked otherwise: eq. 10's estimates stand in for whole nodes of flakes,

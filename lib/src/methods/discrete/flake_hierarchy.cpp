@@ -283,10 +283,6 @@ FlakeCount count_flakes(const FlakeMaterial& material, const FlakeFootprint& raw
         const FlakeNode node = queue[head].node;
         const SpatialShare space = queue[head].space;
         ++result.nodes;
-        if (node.count <= kLeafFlakes) {
-            result.weighted += leaf_count(material, footprint, conic, node);
-            continue;
-        }
         const bool hemisphere = node.direction.label == kHemisphereLabel;
         const Overlap direction = hemisphere ? Overlap::partial : overlap(conic, node.direction.triangle);
         if (direction == Overlap::disjoint) continue;
@@ -294,9 +290,13 @@ FlakeCount count_flakes(const FlakeMaterial& material, const FlakeFootprint& raw
             result.weighted += node.count;  // Algorithm 1 line 10
             continue;
         }
-        // Algorithm 1 lines 11-13: the expected share, where D is uniform in the node (or the
-        // triangle lies wholly inside the conic) and the share's spread is small: eq. 10 with the
-        // running count plus the node's own expected share (see the header).
+        if (node.count <= kLeafFlakes) {
+            result.weighted += leaf_count(material, footprint, conic, node);
+            continue;
+        }
+        // Algorithm 1 lines 11-13: an estimated share (estimated_share), where D is uniform in the
+        // node (or the triangle lies wholly inside the conic) and the share's spread is below ε of
+        // max(running count, half the expected total) plus the node's own expected share.
         double p = -1.0;
         if (direction == Overlap::inside) p = 1.0;
         else if (material.normals->uniform(node.direction)) p = cell_share(conic, node.direction, material.query_solid_angle);
