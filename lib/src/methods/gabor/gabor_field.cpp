@@ -38,6 +38,7 @@ struct SplatPlan {
     std::vector<AxisSpan> x_span, y_span;
     std::vector<std::size_t> x_offset, y_offset;
     std::vector<double> gauss;
+    std::vector<double> phased_re, phased_im;  // the factors at the current ξ3, laid out as gauss
     std::vector<std::vector<std::size_t>> by_band;
 
     bool fits(const FootprintSamples& s) const {
@@ -78,14 +79,14 @@ SplatPlan plan_splat(const KernelArrays& kernels, const FootprintSamples& sample
     return plan;
 }
 
-// factors[j] = gauss[j] e^{−i2π f (s_j − m)} over a span, the phase stepped by one multiplication.
+// factors[j] = scale · gauss[j] e^{−i2π f (s_j − m)} over a span, the phase stepped by one
+// multiplication.
 void phase_factors(const SampleAxis& axis, AxisSpan span, const double* gauss, double m, double frequency,
-                   std::vector<double>& re, std::vector<double>& im) {
-    re.resize(span.count);
-    im.resize(span.count);
+                   Complex scale, double* re, double* im) {
     const double d0 = axis.first_um + span.first * axis.step_um - m;
     const double turns = frequency * d0 - std::nearbyint(frequency * d0);
-    double c = std::cos(2.0 * pi * turns), s = -std::sin(2.0 * pi * turns);
+    const Complex start = scale * Complex(std::cos(2.0 * pi * turns), -std::sin(2.0 * pi * turns));
+    double c = start.real(), s = start.imag();
     const double step_c = std::cos(2.0 * pi * frequency * axis.step_um), step_s = -std::sin(2.0 * pi * frequency * axis.step_um);
     for (int j = 0; j < span.count; ++j) {
         re[j] = gauss[j] * c;
@@ -98,9 +99,9 @@ void phase_factors(const SampleAxis& axis, AxisSpan span, const double* gauss, d
 
 // row[j] += factor · (x_re[j] + i x_im[j]) in plain arithmetic (std::complex's product checks for
 // infinities in every multiplication).
-void add_row(Complex* row, double f_re, double f_im, const std::vector<double>& x_re, const std::vector<double>& x_im) {
+void add_row(Complex* row, double f_re, double f_im, const double* x_re, const double* x_im, int count) {
     double* values = reinterpret_cast<double*>(row);
-    for (std::size_t j = 0; j < x_re.size(); ++j) {
+    for (int j = 0; j < count; ++j) {
         values[2 * j] += f_re * x_re[j] - f_im * x_im[j];
         values[2 * j + 1] += f_re * x_im[j] + f_im * x_re[j];
     }
@@ -123,28 +124,40 @@ ReflectionSource kernel_field_source(const KernelArrays& kernels, const KernelGr
         const double xi3_over_lambda = xi3 / lambda_um;
         const double height_offset = reference_height_um - samples.mean_height_um;
         const double normalisation = 1.0 / (2.0 * pi * grid.sigma_um * grid.sigma_um);  // G_2D
+        // Each kernel's factors along x and y at this ξ3, once (a kernel reaches up to two bands),
+        // laid out as its Gaussian factors; the y factors carry the coefficient C_k w_k G_2D.
+        std::vector<double>& re = plan->phased_re;
+        std::vector<double>& im = plan->phased_im;
+        re.resize(plan->gauss.size());
+        im.resize(plan->gauss.size());
+        parallel_for(kernels.size(), 1024, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) {
+                // Yan 2018 eq. 14-15, the phase of a_k·m_k folded into the local (s − m_k)·a_k.
+                const Complex c = kernels.weight[k] * normalisation *
+                                  std::polar(1.0, -2.0 * pi * xi3_over_lambda * (kernels.height[k] + height_offset));
+                const std::size_t xo = plan->x_offset[k], yo = plan->y_offset[k];
+                phase_factors(samples.x, plan->x_span[k], &plan->gauss[xo], centre_um.x + kernels.px[k],
+                              xi3_over_lambda * kernels.slope_x[k], 1.0, &re[xo], &im[xo]);
+                phase_factors(samples.y, plan->y_span[k], &plan->gauss[yo], centre_um.y + kernels.py[k],
+                              xi3_over_lambda * kernels.slope_y[k], c, &re[yo], &im[yo]);
+            }
+        });
         parallel_for(plan->by_band.size(), 1, [&](std::size_t begin, std::size_t end) {
-            std::vector<double> x_re, x_im, y_re, y_im;
             for (std::size_t band = begin; band < end; ++band) {
                 const int row_begin = static_cast<int>(band) * kBandRows;
                 const int row_end = std::min(ny, row_begin + kBandRows);
                 for (const std::size_t k : plan->by_band[band]) {
                     const AxisSpan sx = plan->x_span[k], sy = plan->y_span[k];
-                    // Yan 2018 eq. 14-15, the phase of a_k·m_k folded into the local (s − m_k)·a_k.
-                    phase_factors(samples.x, sx, &plan->gauss[plan->x_offset[k]], centre_um.x + kernels.px[k],
-                                  xi3_over_lambda * kernels.slope_x[k], x_re, x_im);
-                    phase_factors(samples.y, sy, &plan->gauss[plan->y_offset[k]], centre_um.y + kernels.py[k],
-                                  xi3_over_lambda * kernels.slope_y[k], y_re, y_im);
-                    const Complex c = kernels.weight[k] * normalisation *
-                                      std::polar(1.0, -2.0 * pi * xi3_over_lambda * (kernels.height[k] + height_offset));
+                    const double* x_re = &re[plan->x_offset[k]];
+                    const double* x_im = &im[plan->x_offset[k]];
                     for (int r = std::max(row_begin, sy.first); r < std::min(row_end, sy.first + sy.count); ++r) {
-                        const double f_re = c.real() * y_re[r - sy.first] - c.imag() * y_im[r - sy.first];
-                        const double f_im = c.real() * y_im[r - sy.first] + c.imag() * y_re[r - sy.first];
+                        const double f_re = re[plan->y_offset[k] + (r - sy.first)];
+                        const double f_im = im[plan->y_offset[k] + (r - sy.first)];
                         const std::size_t at = static_cast<std::size_t>(r) * nx + sx.first;
-                        add_row(&out[0][at], f_re, f_im, x_re, x_im);
+                        add_row(&out[0][at], f_re, f_im, x_re, x_im, sx.count);
                         if (!kirchhoff) continue;
-                        add_row(&out[1][at], f_re * kernels.slope_x[k], f_im * kernels.slope_x[k], x_re, x_im);
-                        add_row(&out[2][at], f_re * kernels.slope_y[k], f_im * kernels.slope_y[k], x_re, x_im);
+                        add_row(&out[1][at], f_re * kernels.slope_x[k], f_im * kernels.slope_x[k], x_re, x_im, sx.count);
+                        add_row(&out[2][at], f_re * kernels.slope_y[k], f_im * kernels.slope_y[k], x_re, x_im, sx.count);
                     }
                 }
             }
