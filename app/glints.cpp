@@ -41,7 +41,7 @@ void run_glints(const GlintSettings& settings) {
         map = discrete_glint_map(query, omega_o, settings.size, settings.step_um,
                                  [&bar](std::size_t done, std::size_t total) { bar.update(done, total, "rows"); });
     }
-    const auto [low, high] = std::minmax_element(map.values.begin(), map.values.end());
+    const float peak = *std::max_element(map.values.begin(), map.values.end());
     double sum = 0.0;
     int lit = 0;
     for (float value : map.values) {
@@ -49,12 +49,11 @@ void run_glints(const GlintSettings& settings) {
         lit += value > 0.0f ? 1 : 0;
     }
     const std::string side = shortest_text(settings.size * settings.step_um);
-    ColorLegend legend{0.0, std::max(static_cast<double>(*high), 1e-30),
+    ColorLegend legend{0.0, std::max(static_cast<double>(peak), 1e-30),
                        "f_r [sr^-1] by footprint centre, " + side + " x " + side + " um", ColorMap::inferno};
-    (void)low;
     write_colormapped_png(settings.output, map, legend);
     std::printf("glint map %dx%d, spacing %s um: mean f_r %.6g, max %.6g sr^-1, %d of %d positions lit\n", settings.size,
-                settings.size, shortest_text(settings.step_um).c_str(), sum / map.values.size(), *high, lit,
+                settings.size, shortest_text(settings.step_um).c_str(), sum / map.values.size(), peak, lit,
                 static_cast<int>(map.values.size()));
 }
 

@@ -223,7 +223,7 @@ ScalarImage discrete_glint_map(const LobeQuery& lobe_query, Vec3 omega_o, int si
     if (!(step_um > 0.0 && step_um <= 1e5))
         throw Error("glint map spacing must be above 0 and at most 10 cm, got " + shortest_text(step_um) + " um");
     if (!(std::isfinite(omega_o.z) && omega_o.z > 0.0 && std::abs(length(omega_o) - 1.0) < 1e-9))
-        throw Error("the outgoing direction must be a unit vector above the surface");
+        throw Error("the outgoing direction must point above the surface (theta below 90 degrees)");
     // Exact counts unless asked otherwise: eq. 10's estimates stand in for whole nodes of flakes,
     // which a moving footprint shows as the tree's squares.
     if (!query.method_options.contains("error")) query.method_options.insert_or_assign("error", std::string("0"));
