@@ -1,6 +1,7 @@
 // glintscope glints [HEIGHTFIELD] --outgoing THETA,PHI -o MAP.png: the discrete method's glint map,
 // f_r for one pair of directions as the footprint moves over a grid of positions.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -48,9 +49,18 @@ void run_glints(const GlintSettings& settings) {
         sum += value;
         lit += value > 0.0f ? 1 : 0;
     }
+    // The label says what the map is: its extent, the flakes, the footprint and both directions.
     const std::string side = shortest_text(settings.size * settings.step_um);
-    ColorLegend legend{0.0, std::max(static_cast<double>(peak), 1e-30),
-                       "f_r [sr^-1] by footprint centre, " + side + " x " + side + " um", ColorMap::inferno};
+    const auto flakes = query.method_options.find("flakes");
+    const Vec3 wi = query.omega_i;
+    const double theta_i = std::acos(wi.z) * 180.0 / pi, phi_i = std::atan2(wi.y, wi.x) * 180.0 / pi;
+    std::string label = "f_r [sr^-1] by footprint centre, " + side + " x " + side + " um; N = ";
+    label.append(flakes != query.method_options.end() ? flakes->second : std::string("1e6"));
+    label.append(query.footprint.shape == FootprintShape::box ? ", box " + shortest_text(query.footprint.size_um)
+                                                              : ", sigma_c " + shortest_text(query.footprint.sigma_um));
+    label.append(" um; in " + shortest_text(std::round(theta_i * 10) / 10) + "," + shortest_text(std::round(phi_i * 10) / 10) +
+                 ", out " + shortest_text(settings.outgoing_deg[0]) + "," + shortest_text(settings.outgoing_deg[1]) + " deg");
+    ColorLegend legend{0.0, std::max(static_cast<double>(peak), 1e-30), label, ColorMap::inferno};
     write_colormapped_png(settings.output, map, legend);
     std::printf("glint map %dx%d, spacing %s um: mean f_r %.6g, max %.6g sr^-1, %d of %d positions lit\n", settings.size,
                 settings.size, shortest_text(settings.step_um).c_str(), sum / map.values.size(), peak, lit,
