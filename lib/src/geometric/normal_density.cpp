@@ -3,14 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <memory>
-#include <new>
 #include <numbers>
 #include <string>
-
-#include <sys/mman.h>
 
 #include "glintscope/error.hpp"
 #include "glintscope/parallel.hpp"
@@ -133,15 +127,30 @@ struct DifferenceGrid {
     // A ramp of `slope` per pixel from position x on (0 before): its integral over pixel k is
     // a first difference of ½·max(0, u − x)², whose third differences vanish but for the three
     // pixels from floor(x) on, with the quadratic B-spline weights ½(1 − t)², ½ + t − t², ½t²
-    // (t = x − floor(x)).
-    [[gnu::always_inline]] void add_ramp(int major, double x, double slope, int n) const {
-        const int k = clamp_index(x, n);
+    // (t = x − floor(x)). x lies in [0, N] (up to rounding; truncation takes −1e-17 to 0), so
+    // k ≤ N and the three entries fit the N + 3 of a line.
+    [[gnu::always_inline]] void add_ramp(double* line, double x, double slope) const {
+        const int k = static_cast<int>(x);
         const double t = x - k;
-        double* at = data + major * major_step + k * minor_step;
+        double* at = line + k * minor_step;
         const double half_slope = 0.5 * slope;
         at[0] += half_slope * (1.0 - t) * (1.0 - t);
         at[minor_step] += half_slope + slope * t * (1.0 - t);
         at[2 * minor_step] += half_slope * t * t;
+    }
+    // The ramp ending at x on the line before (`previous`) and starting at x on `line`: the two
+    // share their weights.
+    [[gnu::always_inline]] void add_ramp_pair(double* previous, double* line, double x, double slope) const {
+        const int k = static_cast<int>(x);
+        const double t = x - k;
+        const double w0 = 0.5 * slope * (1.0 - t) * (1.0 - t), w1 = slope * (0.5 + t * (1.0 - t)), w2 = 0.5 * slope * t * t;
+        const std::size_t offset = k * minor_step;
+        previous[offset] -= w0;
+        previous[offset + minor_step] -= w1;
+        previous[offset + 2 * minor_step] -= w2;
+        line[offset] += w0;
+        line[offset + minor_step] += w1;
+        line[offset + 2 * minor_step] += w2;
     }
 };
 
@@ -178,15 +187,15 @@ struct CoverageGrids {
     const double v_low = lesser(a.v, b.v), v_high = greater(a.v, b.v);
     const double du_dv = (b.u - a.u) / (b.v - a.v);
     const double slope = (b.v > a.v ? density : -density) / std::abs(du_dv);
-    const int line_last = clamp_index(v_high, n);
-    double u0 = a.u + (v_low - a.v) * du_dv;
-    for (int line = clamp_index(v_low, n); line <= line_last; ++line) {
-        const double v1 = line == line_last ? v_high : line + 1.0;
-        const double u1 = a.u + (v1 - a.v) * du_dv;
-        grid.add_ramp(line, lesser(u0, u1), slope, n);
-        grid.add_ramp(line, greater(u0, u1), -slope, n);
-        u0 = u1;
-    }
+    // Line L runs from u_L to u_{L+1} (its crossings of v = L and L + 1): it takes +σ·ramp(u_L)
+    // − σ·ramp(u_{L+1}), σ = slope·sign(du/dv), so each crossing serves the lines on both sides.
+    const double signed_slope = du_dv > 0.0 ? slope : -slope;
+    const int line_first = clamp_index(v_low, n), line_last = clamp_index(v_high, n);
+    double* line = grid.data + line_first * grid.major_step;
+    grid.add_ramp(line, a.u + (v_low - a.v) * du_dv, signed_slope);
+    for (int boundary = line_first + 1; boundary <= line_last; ++boundary, line += grid.major_step)
+        grid.add_ramp_pair(line, line + grid.major_step, a.u + (boundary - a.v) * du_dv, signed_slope);
+    grid.add_ramp(line, a.u + (v_high - a.v) * du_dv, -signed_slope);
 }
 
 // The directed edge a → b, weighted by `density`: in every pixel row it crosses, the area of
@@ -287,6 +296,7 @@ void deposit_segment(const CoverageGrids& grids, Pixel a, Pixel b, Pixel c, doub
 }
 
 constexpr long long kRowsPerEvaluation = 32;
+constexpr long long kColumnsPerGrid = 8192;
 
 // A grid of cols × rows cells of side h from (x, y), corner images p[b·stride + a] (b along y):
 // two triangles per cell, (p00, p10, p11) and (p00, p11, p01), each carrying the weight at its
@@ -370,9 +380,11 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void accumulate_rows
         pixels.resize(corners.size());
         for (std::size_t k = 0; k < corners.size(); ++k) pixels[k] = normal_pixel(corners[k], half_resolution);
         if (!adaptive && settings.refinement == 1) {
-            // Every cell is undivided: the block is one grid, its inner edges shared.
-            deposit_grid(grids, weight, lattice.x0, y_block, h, static_cast<int>(lattice.nx), static_cast<int>(block_rows),
-                         pixels.data(), static_cast<std::size_t>(corners_x), densities, quadrants);
+            // Every cell is undivided: the block is a few grids, their inner edges shared.
+            for (long long i0 = 0; i0 < lattice.nx; i0 += kColumnsPerGrid)
+                deposit_grid(grids, weight, lattice.x0 + i0 * h, y_block, h,
+                             static_cast<int>(std::min(kColumnsPerGrid, lattice.nx - i0)), static_cast<int>(block_rows),
+                             pixels.data() + i0, static_cast<std::size_t>(corners_x), densities, quadrants);
             continue;
         }
         // The cell centres' images, which decide the adaptive subdivision.
@@ -427,66 +439,42 @@ long long stripe_count(int resolution, const Lattice& lattice) {
     return std::max(1LL, std::min({wanted, lattice.ny, fitting}));
 }
 
-// Zeroed doubles on 2 MiB-aligned memory the kernel may back with huge pages: zeroing fresh grids
-// page by page cost more than the accumulation for single footprints (P-NDF 256²: 39 → 22 ms,
-// geometric lobe: 313 → 120 ms with them).
-class GridStorage {
-public:
-    explicit GridStorage(std::size_t count) {
-        constexpr std::size_t kHugePage = std::size_t{2} << 20;
-        const std::size_t bytes = (count * sizeof(double) + kHugePage - 1) / kHugePage * kHugePage;
-        memory_.reset(static_cast<double*>(std::aligned_alloc(kHugePage, bytes)));
-        if (!memory_) throw std::bad_alloc();
-        madvise(memory_.get(), bytes, MADV_HUGEPAGE);  // advice only: without it, 4 KB pages
-        std::memset(memory_.get(), 0, bytes);
-    }
-    double* data() const { return memory_.get(); }
-    double operator[](std::size_t k) const { return memory_.get()[k]; }
-
-private:
-    struct Free {
-        void operator()(double* p) const { std::free(p); }
-    };
-    std::unique_ptr<double, Free> memory_;
-};
-
-CoverageGrids grids_in(const GridStorage& storage, int resolution) {
+CoverageGrids grids_in(std::vector<double>& storage, int resolution) {
     const std::size_t stride = grid_stride(resolution), area = grid_area(resolution);
-    return {resolution, {storage.data(), stride, 1}, {storage.data() + area, 1, stride}, storage.data() + 2 * area};
+    storage.assign(3 * area, 0.0);
+    // The column grid is stored by columns, so that a line of either grid is contiguous.
+    return {resolution, {storage.data(), stride, 1}, {storage.data() + area, stride, 1}, storage.data() + 2 * area};
 }
 
-// Masses from the stripes' grids (stripes summed in order at every step): the quadrants' running
-// sums along rows join the column differences; running down the columns, those become the
-// columns' masses once summed twice and the quadrants' once; each row's double running sum of its
-// row differences adds to them.
-std::vector<double> resolve(const std::vector<GridStorage>& stripes, int resolution) {
+// Masses from the stripes' grids, stripes summed in order at every step: the column grid's double
+// running sums down each column, the quadrants' running sums along rows and then down columns,
+// and each row's double running sum of its row differences.
+std::vector<double> resolve(std::vector<std::vector<double>>& stripes, int resolution) {
     const std::size_t n = static_cast<std::size_t>(resolution), stride = grid_stride(resolution);
     const std::size_t area = grid_area(resolution);
-    double* columns = stripes[0].data() + area;        // stripe 0's grids take the sums
+    double* columns = stripes[0].data() + area;  // stripe 0's grids take the sums
     double* quadrants = stripes[0].data() + 2 * area;
-    parallel_for(stride, 16, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t r = begin; r < end; ++r) {
-            double quadrant = 0.0;
-            for (std::size_t c = 0; c < stride; ++c) {
-                double column = 0.0;
-                for (const auto& stripe : stripes) {
-                    quadrant += stripe[2 * area + r * stride + c];
-                    column += stripe[area + r * stride + c];
-                }
-                columns[r * stride + c] = column;
-                quadrants[r * stride + c] = quadrant;
+    parallel_for(n, 16, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t c = begin; c < end; ++c) {
+            double slope = 0.0, running = 0.0;
+            for (std::size_t r = 0; r < n; ++r) {
+                for (const auto& stripe : stripes) slope += stripe[area + c * stride + r];
+                running += slope;
+                columns[c * stride + r] = running;
             }
         }
     });
-    // Down the columns, a row at a time; `below` holds the masses of the rows done.
-    std::vector<double> slope(stride, 0.0), below(stride, 0.0), quadrant(stride, 0.0);
-    for (std::size_t r = 0; r < n; ++r)
-        for (std::size_t c = 0; c < stride; ++c) {
-            slope[c] += columns[r * stride + c];
-            below[c] += slope[c];
-            quadrant[c] += quadrants[r * stride + c];
-            columns[r * stride + c] = below[c] + quadrant[c];
+    parallel_for(n, 16, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r) {
+            double running = 0.0;
+            for (std::size_t c = 0; c < n; ++c) {
+                for (const auto& stripe : stripes) running += stripe[2 * area + r * stride + c];
+                quadrants[r * stride + c] = running;
+            }
         }
+    });
+    for (std::size_t r = 1; r < n; ++r)
+        for (std::size_t c = 0; c < n; ++c) quadrants[r * stride + c] += quadrants[(r - 1) * stride + c];
     // Rounding leaves ~1e-16 of the masses where the true value is 0; negative residues are clipped.
     std::vector<double> density(n * n, 0.0);
     parallel_for(n, 16, [&](std::size_t begin, std::size_t end) {
@@ -498,7 +486,8 @@ std::vector<double> resolve(const std::vector<GridStorage>& stripes, int resolut
                 // conventions.md: a pixel whose centre lies outside the disk holds no normal;
                 // the sliver of rim mass it caught (normals within a pixel of vertical) is dropped.
                 const bool inside = inside_unit_disk(disk_pixel_point(static_cast<int>(r), static_cast<int>(c), resolution));
-                density[r * n + c] = inside ? std::max(0.0, running + columns[r * stride + c]) : 0.0;
+                const double mass = running + columns[c * stride + r] + quadrants[r * stride + c];
+                density[r * n + c] = inside ? std::max(0.0, mass) : 0.0;
             }
         }
     });
@@ -526,8 +515,7 @@ std::vector<double> normal_density(const BicubicInterpolant& surface, const Foot
     const Lattice lattice = lattice_for(surface, footprint);
     const Weight weight = weight_for(surface, footprint);
     const long long stripes = stripe_count(resolution, lattice);
-    std::vector<GridStorage> partial;
-    for (long long s = 0; s < stripes; ++s) partial.emplace_back(3 * grid_area(resolution));
+    std::vector<std::vector<double>> partial(static_cast<std::size_t>(stripes));
     parallel_for(static_cast<std::size_t>(stripes), 1, [&](std::size_t begin, std::size_t end) {
         for (std::size_t s = begin; s < end; ++s) {
             const CoverageGrids grids = grids_in(partial[s], resolution);
