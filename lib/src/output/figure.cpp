@@ -186,6 +186,7 @@ DiskColours disk_colours(const LobeImage& lobe, const LobeOutputOptions& options
         xyz = lobe_to_xyz(lobe, settings.illuminant);
     }
     const ColorMap map = options.colormap == "viridis" ? ColorMap::viridis : ColorMap::inferno;
+    const bool signed_values = is_signed(lobe);  // once: it reads every pixel
     for (int row = 0; row < n; ++row)
         for (int col = 0; col < n; ++col) {
             if (!inside_unit_disk(disk_pixel_point(row, col, n))) continue;
@@ -196,7 +197,7 @@ DiskColours disk_colours(const LobeImage& lobe, const LobeOutputOptions& options
                 continue;
             }
             const double value = lobe.at(0, row, col);
-            if (is_signed(lobe)) {
+            if (signed_values) {
                 result.pixels[i] = diverging(value / exposure.white_level);
                 continue;
             }
