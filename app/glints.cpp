@@ -56,8 +56,10 @@ void run_glints(const GlintSettings& settings) {
     const double theta_i = std::acos(wi.z) * 180.0 / pi, phi_i = std::atan2(wi.y, wi.x) * 180.0 / pi;
     std::string label = "f_r [sr^-1] by footprint centre, " + side + " x " + side + " um; N = ";
     label.append(flakes != query.method_options.end() ? flakes->second : std::string("1e6"));
-    label.append(query.footprint.shape == FootprintShape::box ? ", box " + shortest_text(query.footprint.size_um)
-                                                              : ", sigma_c " + shortest_text(query.footprint.sigma_um));
+    const double width = box_width_um(query.footprint), height = box_height_um(query.footprint);
+    label.append(query.footprint.shape != FootprintShape::box ? ", sigma_c " + shortest_text(query.footprint.sigma_um)
+                 : width == height ? ", box " + shortest_text(width)
+                                   : ", box " + shortest_text(width) + " x " + shortest_text(height));
     label.append(" um; in " + shortest_text(std::round(theta_i * 10) / 10) + "," + shortest_text(std::round(phi_i * 10) / 10) +
                  ", out " + shortest_text(settings.outgoing_deg[0]) + "," + shortest_text(settings.outgoing_deg[1]) + " deg");
     ColorLegend legend{0.0, std::max(static_cast<double>(peak), 1e-30), label, ColorMap::inferno};

@@ -26,11 +26,11 @@ for figure in "${which[@]}"; do
       for method in pndf filtered dk; do
         extra=()
         [ "$method" = dk ] && extra=(--supersample 2)
-        "$glintscope" ndf builtin:brushed --method "$method" --box 70um --footprints grid:3 --res 256 \
+        "$glintscope" ndf builtin:brushed --method "$method" --box 70x53um --footprints grid:3 --res 256 \
           --slice x --slice y "${extra[@]}" -o "$out/dong-brushed-$method.exr" --png "$out/dong-brushed-$method.png" --log
       done
       /usr/bin/python3 scripts/plot-slices.py "$out/dong-slices.png" \
-        "Brushed builtin, mean of 3 x 3 patches of 70 um (Dong 2015 Fig. 9)" \
+        "Brushed builtin, mean of 3 x 3 patches of 70 x 53 um (Dong 2015 Fig. 9)" \
         "P-NDF=$out/dong-brushed-pndf" "filtered, 1 um=$out/dong-brushed-filtered" "D_K, 555 nm=$out/dong-brushed-dk"
       echo "slices: $out/dong-slices.png"
       ;;

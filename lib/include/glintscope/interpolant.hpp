@@ -25,7 +25,12 @@ public:
     SurfacePoint evaluate(double x_um, double y_um) const;
     // evaluate() at the grid points (x0 + i·step, y0 + j·step), 0 ≤ i < nx, 0 ≤ j < ny, into
     // out[j·nx + i]: the same values, several times faster per point (taps shared per grid line).
-    void evaluate_grid(double x0_um, double y0_um, double step_um, int nx, int ny, SurfacePoint* out) const;
+    void evaluate_grid(double x0_um, double y0_um, double step_um, int nx, int ny, SurfacePoint* out) const {
+        evaluate_grid(x0_um, y0_um, step_um, step_um, nx, ny, out);
+    }
+    // The same with different steps along x and y.
+    void evaluate_grid(double x0_um, double y0_um, double step_x_um, double step_y_um, int nx, int ny,
+                       SurfacePoint* out) const;
     // evaluate() at the samples themselves, where the weights reduce to the sample and central
     // differences: sample columns c0 … c0 + nx − 1 and y-up rows j0 … j0 + ny − 1 (sample (c, j)
     // at ((c + ½)dx, (j + ½)dx), indices wrapped periodically), into out[j·nx + i].

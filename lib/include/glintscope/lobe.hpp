@@ -22,14 +22,22 @@ namespace glintscope {
 enum class FootprintShape { gaussian, box, whole };
 
 // The coherence footprint (conventions.md "Coherence / footprint"): a Gaussian
-// w(s) = exp(−|s − x_c|²/(2σ_c²)), A_c = πσ_c², or a box of side `size_um`. Geometric methods
-// weigh the surface by |w|²/A_c: a normalised Gaussian of standard deviation σ_c/√2, or the box.
+// w(s) = exp(−|s − x_c|²/(2σ_c²)), A_c = πσ_c², or a box of sides `size_um` along x and
+// `size_y_um` along y (Dong 2015's 70 × 53 µm patches; 0: a square), A_c its area. Geometric
+// methods weigh the surface by |w|²/A_c: a normalised Gaussian of standard deviation σ_c/√2, or
+// the box.
 struct Footprint {
     Point2 centre_um;
     double sigma_um = 10.0;
     FootprintShape shape = FootprintShape::gaussian;
-    double size_um = 0.0;  // box side length (box only)
+    double size_um = 0.0;    // box side along x (box only)
+    double size_y_um = 0.0;  // box side along y (box only); 0: size_um
 };
+
+inline double box_width_um(const Footprint& footprint) { return footprint.size_um; }
+inline double box_height_um(const Footprint& footprint) {
+    return footprint.size_y_um > 0.0 ? footprint.size_y_um : footprint.size_um;
+}
 
 // A material's Fresnel reflectance F(λ, cos θ); empty name means F = 1.
 struct MaterialChoice {
@@ -68,9 +76,9 @@ void set_heightfield(LobeQuery& query, Heightfield field);
 // Error with a one-line message naming the bad parameter.
 void validate(const LobeQuery& query);
 
-// How far a footprint reaches from its centre: 3.25σ_c for a Gaussian (the wave methods'
-// truncation), half the side for a box.
-double footprint_support_um(const Footprint& footprint);
+// How far a footprint reaches from its centre along x and y: 3.25σ_c for a Gaussian (the wave
+// methods' truncation), half the sides for a box.
+Point2 footprint_support_um(const Footprint& footprint);
 
 // On a non-periodic field (Heightfield::periodic false) a footprint whose support crosses the
 // border is refused with one line giving the valid range of centres; periodic fields and the

@@ -13,12 +13,13 @@
 namespace glintscope {
 namespace {
 
-// Cell lattice over the integration domain: corners (x0 + i·step, y0 + j·step), 0 ≤ i ≤ nx,
+// Cell lattice over the integration domain: corners (x0 + i·step_x, y0 + j·step_y), 0 ≤ i ≤ nx,
 // 0 ≤ j ≤ ny, on the periodically tiled surface.
 struct Lattice {
     double x0 = 0.0;
     double y0 = 0.0;
-    double step = 0.0;
+    double step_x = 0.0;
+    double step_y = 0.0;
     long long nx = 0;
     long long ny = 0;
 };
@@ -52,17 +53,19 @@ void aligned_axis(double from, double to, double texel, double step, double& ori
 Lattice lattice_for(const BicubicInterpolant& surface, const Footprint& footprint) {
     const double texel = surface.texel_um();
     Lattice lattice;
-    lattice.step = texel;
+    lattice.step_x = lattice.step_y = texel;
     if (footprint.shape == FootprintShape::whole) {
         lattice.x0 = lattice.y0 = 0.5 * texel;
         lattice.nx = surface.cols();
         lattice.ny = surface.rows();
     } else if (footprint.shape == FootprintShape::box) {
-        const double side = footprint.size_um;
-        lattice.nx = lattice.ny = static_cast<long long>(std::ceil(side / texel));
-        lattice.step = side / static_cast<double>(lattice.nx);
-        lattice.x0 = footprint.centre_um.x - 0.5 * side;
-        lattice.y0 = footprint.centre_um.y - 0.5 * side;
+        const double width = box_width_um(footprint), height = box_height_um(footprint);
+        lattice.nx = static_cast<long long>(std::ceil(width / texel));
+        lattice.ny = static_cast<long long>(std::ceil(height / texel));
+        lattice.step_x = width / static_cast<double>(lattice.nx);
+        lattice.step_y = height / static_cast<double>(lattice.ny);
+        lattice.x0 = footprint.centre_um.x - 0.5 * width;
+        lattice.y0 = footprint.centre_um.y - 0.5 * height;
     } else {
         const double reach = kTruncationSigmas * footprint_weight_sigma_um(footprint);
         aligned_axis(footprint.centre_um.x - reach, footprint.centre_um.x + reach, texel, texel, lattice.x0, lattice.nx);
@@ -78,7 +81,7 @@ Weight weight_for(const BicubicInterpolant& surface, const Footprint& footprint)
     if (footprint.shape == FootprintShape::whole) {
         weight.scale = 1.0 / (surface.cols() * surface.texel_um() * surface.rows() * surface.texel_um());
     } else if (footprint.shape == FootprintShape::box) {
-        weight.scale = 1.0 / (footprint.size_um * footprint.size_um);
+        weight.scale = 1.0 / (box_width_um(footprint) * box_height_um(footprint));
     } else {
         const double sigma = footprint_weight_sigma_um(footprint);
         weight.inverse_two_variance = 0.5 / (sigma * sigma);
@@ -296,29 +299,30 @@ void deposit_segment(const CoverageGrids& grids, Pixel a, Pixel b, Pixel c, doub
 }
 
 constexpr long long kRowsPerEvaluation = 32;
-constexpr long long kColumnsPerGrid = 8192;
+constexpr long long kColumnsPerGrid = 8192;  // bounds one deposit_grid's scratch on wide fields
 
-// A grid of cols × rows cells of side h from (x, y), corner images p[b·stride + a] (b along y):
-// two triangles per cell, (p00, p10, p11) and (p00, p11, p01), each carrying the weight at its
-// centroid times its area h²/2, spread uniformly over its image; each edge shared by two
+// A grid of cols × rows cells of sides hx × hy from (x, y), corner images p[b·stride + a] (b along
+// y): two triangles per cell, (p00, p10, p11) and (p00, p11, p01), each carrying the weight at its
+// centroid times its area hx·hy/2, spread uniformly over its image; each edge shared by two
 // triangles is rasterised once with the difference of their densities (add_edge is linear in the
 // density): 3 edges a cell instead of 6, plus the grid's border. The corners' potential terms
 // are summed per corner and deposited once. `densities` and `quadrants` are scratch space.
 [[gnu::always_inline]] inline void deposit_grid(const CoverageGrids& grids, const Weight& weight, double x, double y,
-                                                double h, int cols, int rows_of_cells, const Pixel* p, std::size_t stride,
+                                                double hx, double hy, int cols, int rows_of_cells, const Pixel* p,
+                                                std::size_t stride,
                                                 std::vector<double>& densities, std::vector<double>& quadrants) {
     const std::size_t cells = static_cast<std::size_t>(cols) * rows_of_cells;
     densities.assign(2 * cells, 0.0);
     double* lower = densities.data();          // triangle (p00, p10, p11) of cell (a, b)
     double* upper = densities.data() + cells;  // triangle (p00, p11, p01)
-    const double half_area = 0.5 * h * h;
+    const double half_area = 0.5 * hx * hy;
     for (int b = 0; b < rows_of_cells; ++b)
         for (int a = 0; a < cols; ++a) {
             const Pixel p00 = p[b * stride + a], p10 = p[b * stride + a + 1];
             const Pixel p01 = p[(b + 1) * stride + a], p11 = p[(b + 1) * stride + a + 1];
-            const double xa = x + a * h, yb = y + b * h;
-            const double lower_mass = half_area * weight(xa + h * (2.0 / 3.0), yb + h / 3.0);
-            const double upper_mass = half_area * weight(xa + h / 3.0, yb + h * (2.0 / 3.0));
+            const double xa = x + a * hx, yb = y + b * hy;
+            const double lower_mass = half_area * weight(xa + hx * (2.0 / 3.0), yb + hy / 3.0);
+            const double upper_mass = half_area * weight(xa + hx / 3.0, yb + hy * (2.0 / 3.0));
             if (lower_mass > 0.0) deposit_small_triangle(grids, p00, p10, p11, lower_mass, lower[b * cols + a]);
             if (upper_mass > 0.0) deposit_small_triangle(grids, p00, p11, p01, upper_mass, upper[b * cols + a]);
         }
@@ -366,7 +370,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void accumulate_rows
     const int resolution = grids.resolution;
     const long long corners_x = lattice.nx + 1;
     const double half_resolution = 0.5 * resolution;
-    const double h = lattice.step;
+    const double hx = lattice.step_x, hy = lattice.step_y;
     std::vector<SurfacePoint> corners, centres, sub;
     std::vector<Pixel> pixels, centre_pixels, sub_pixels;
     std::vector<double> densities, quadrants;
@@ -374,15 +378,15 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void accumulate_rows
     for (long long j0 = j_begin; j0 < j_end; j0 += kRowsPerEvaluation) {
         const long long block_rows = std::min(kRowsPerEvaluation, j_end - j0);
         corners.resize(static_cast<std::size_t>(corners_x * (block_rows + 1)));
-        const double y_block = lattice.y0 + j0 * h;
-        surface.evaluate_grid(lattice.x0, y_block, h, static_cast<int>(corners_x), static_cast<int>(block_rows + 1),
+        const double y_block = lattice.y0 + j0 * hy;
+        surface.evaluate_grid(lattice.x0, y_block, hx, hy, static_cast<int>(corners_x), static_cast<int>(block_rows + 1),
                               corners.data());
         pixels.resize(corners.size());
         for (std::size_t k = 0; k < corners.size(); ++k) pixels[k] = normal_pixel(corners[k], half_resolution);
         if (!adaptive && settings.refinement == 1) {
             // Every cell is undivided: the block is a few grids, their inner edges shared.
             for (long long i0 = 0; i0 < lattice.nx; i0 += kColumnsPerGrid)
-                deposit_grid(grids, weight, lattice.x0 + i0 * h, y_block, h,
+                deposit_grid(grids, weight, lattice.x0 + i0 * hx, y_block, hx, hy,
                              static_cast<int>(std::min(kColumnsPerGrid, lattice.nx - i0)), static_cast<int>(block_rows),
                              pixels.data() + i0, static_cast<std::size_t>(corners_x), densities, quadrants);
             continue;
@@ -391,31 +395,30 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void accumulate_rows
         centre_pixels.assign(adaptive ? static_cast<std::size_t>(lattice.nx * block_rows) : 0, Pixel{});
         if (adaptive) {
             centres.resize(centre_pixels.size());
-            surface.evaluate_grid(lattice.x0 + 0.5 * h, y_block + 0.5 * h, h, static_cast<int>(lattice.nx),
+            surface.evaluate_grid(lattice.x0 + 0.5 * hx, y_block + 0.5 * hy, hx, hy, static_cast<int>(lattice.nx),
                                   static_cast<int>(block_rows), centres.data());
             for (std::size_t k = 0; k < centres.size(); ++k) centre_pixels[k] = normal_pixel(centres[k], half_resolution);
         }
         for (long long j = 0; j < block_rows; ++j) {
-            const double y = y_block + j * h;
+            const double y = y_block + j * hy;
             const Pixel* lower = &pixels[static_cast<std::size_t>(j * corners_x)];
             const Pixel* upper = lower + corners_x;
             for (long long i = 0; i < lattice.nx; ++i) {
-                const double x = lattice.x0 + i * h;
+                const double x = lattice.x0 + i * hx;
                 const int n = adaptive ? subdivisions(settings, lower[i], lower[i + 1], upper[i], upper[i + 1],
                                                       centre_pixels[static_cast<std::size_t>(j * lattice.nx + i)])
                                        : settings.refinement;
                 if (n == 1) {
                     const Pixel cell[4] = {lower[i], lower[i + 1], upper[i], upper[i + 1]};
-                    deposit_grid(grids, weight, x, y, h, 1, 1, cell, 2, densities, quadrants);
+                    deposit_grid(grids, weight, x, y, hx, hy, 1, 1, cell, 2, densities, quadrants);
                     continue;
                 }
-                const double step = h / n;
                 sub.resize(static_cast<std::size_t>(n + 1) * (n + 1));
                 sub_pixels.resize(sub.size());
-                surface.evaluate_grid(x, y, step, n + 1, n + 1, sub.data());
+                surface.evaluate_grid(x, y, hx / n, hy / n, n + 1, n + 1, sub.data());
                 for (std::size_t k = 0; k < sub.size(); ++k) sub_pixels[k] = normal_pixel(sub[k], half_resolution);
-                deposit_grid(grids, weight, x, y, step, n, n, sub_pixels.data(), static_cast<std::size_t>(n) + 1, densities,
-                             quadrants);
+                deposit_grid(grids, weight, x, y, hx / n, hy / n, n, n, sub_pixels.data(), static_cast<std::size_t>(n) + 1,
+                             densities, quadrants);
             }
         }
     }

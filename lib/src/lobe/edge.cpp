@@ -19,9 +19,10 @@ std::string centre_range(double reach, double extent) { return um(reach) + " to 
 
 }  // namespace
 
-double footprint_support_um(const Footprint& footprint) {
+Point2 footprint_support_um(const Footprint& footprint) {
+    if (footprint.shape == FootprintShape::box) return {0.5 * box_width_um(footprint), 0.5 * box_height_um(footprint)};
     // The Gaussian's 3.25σ_c truncation of the wave methods (weight e^{−5.3}, |w|² e^{−10.6}).
-    return footprint.shape == FootprintShape::box ? 0.5 * footprint.size_um : 3.25 * footprint.sigma_um;
+    return {3.25 * footprint.sigma_um, 3.25 * footprint.sigma_um};
 }
 
 void check_footprint_inside(const LobeQuery& query) {
@@ -32,20 +33,24 @@ void check_footprint_inside(const LobeQuery& query) {
     // methods without that option refuse the option itself.
     const auto edge = query.method_options.find("edge");
     if (edge != query.method_options.end() && edge->second == "truncate") return;
-    const double reach = footprint_support_um(footprint);
+    const Point2 reach = footprint_support_um(footprint);
     const double width = field.width_um(), height = field.height_um();
     const double slack = 1e-9 * std::max(width, height);  // rounding in a centre computed as W/2
-    const std::string support = footprint.shape == FootprintShape::box ? "box half-side " + um(reach)
-                                                                        : "+-3.25 sigma_c = " + um(reach);
+    const std::string support =
+        footprint.shape != FootprintShape::box ? "+-3.25 sigma_c = " + um(reach.x)
+        : reach.x == reach.y                   ? "box half-side " + um(reach.x)
+                                               : "box half-sides " + um(reach.x) + " x " + um(reach.y);
     const std::string field_text = "the non-periodic heightfield (" + um(width) + " x " + um(height) + ")";
-    if (2.0 * reach > std::min(width, height) + 2.0 * slack)
+    if (2.0 * reach.x > width + 2.0 * slack || 2.0 * reach.y > height + 2.0 * slack)
         throw Error("the footprint's support (" + support + ") is wider than " + field_text +
                     ": no centre fits; use a smaller footprint, or --periodic if the file tiles");
     const Point2 c = footprint.centre_um;
-    if (c.x - reach < -slack || c.x + reach > width + slack || c.y - reach < -slack || c.y + reach > height + slack)
+    if (c.x - reach.x < -slack || c.x + reach.x > width + slack || c.y - reach.y < -slack ||
+        c.y + reach.y > height + slack)
         throw Error("footprint centre (" + um(c.x) + ", " + um(c.y) + ") with support " + support +
-                    " crosses the edge of " + field_text + ": centres must lie in x " + centre_range(reach, width) +
-                    ", y " + centre_range(reach, height) + " (or --periodic if the file tiles, or fft's --edge truncate)");
+                    " crosses the edge of " + field_text + ": centres must lie in x " + centre_range(reach.x, width) +
+                    ", y " + centre_range(reach.y, height) +
+                    " (or --periodic if the file tiles, or fft's --edge truncate)");
 }
 
 }  // namespace glintscope

@@ -34,9 +34,10 @@ void validate(const LobeQuery& query) {
                     shortest_text(footprint.centre_um.x) + ", " + shortest_text(footprint.centre_um.y) + ") um");
     if (footprint.shape == FootprintShape::gaussian && !(footprint.sigma_um > 0.0 && footprint.sigma_um <= 1e4))
         throw Error("coherence sigma must be between 0 and 10 mm, got " + shortest_text(footprint.sigma_um) + " um");
-    if (footprint.shape == FootprintShape::box && !(footprint.size_um > 0.0 && footprint.size_um <= 1e5))
-        throw Error("box footprint size must be between 0 and 100 mm, got " + shortest_text(footprint.size_um) +
-                    " um");
+    if (footprint.shape == FootprintShape::box)
+        for (const double side : {footprint.size_um, box_height_um(footprint)})
+            if (!(side > 0.0 && side <= 1e5))
+                throw Error("box footprint sides must be between 0 and 100 mm, got " + shortest_text(side) + " um");
     // The image alone holds N² floats per wavelength: refused here, before any method allocates.
     const auto image_gb = [&](double n) { return shortest_text(std::ceil(4.0 * n * n * query.wavelengths_um.size() / 1e8) / 10); };
     if (query.resolution < 4 || query.resolution > 8192)
@@ -110,7 +111,8 @@ std::vector<std::string> image_warnings(const LobeImage& image) {
         }
         if (image.quantity == Quantity::ndf && std::fabs(sum - 1.0) > 0.02) {
             warnings.push_back("the NDF integrates to " + shortest_text(std::round(sum * 1e4) / 1e4) +
-                               " on the disk, not 1 (mass beyond the disk or the footprint)");
+                               " on the disk, not 1 (mass beyond the disk or the footprint, or peaks narrower "
+                               "than a pixel that its centres miss: try --supersample)");
             break;
         }
     }

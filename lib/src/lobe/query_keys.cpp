@@ -1,6 +1,7 @@
 #include "glintscope/query_keys.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -33,6 +34,28 @@ Point2 parse_length_pair(const std::string& text) {
     const std::vector<std::string> parts = split(text, ',');
     if (parts.size() != 2) throw Error("'" + text + "' is not X,Y");
     return {parse_length_um(parts[0]), parse_length_um(parts[1])};
+}
+
+// "70um" (a square) or "70x53um" (sides along x and y; a unit written once, after the second,
+// applies to both).
+void set_box_sides(Footprint& footprint, const std::string& text) {
+    const std::vector<std::string> parts = split(text, 'x');
+    if (parts.size() == 1) {
+        footprint.size_um = parse_length_um(text);
+        footprint.size_y_um = 0.0;
+        return;
+    }
+    if (parts.size() != 2) throw Error("'" + text + "' is not a box side LENGTH or sides WIDTHxHEIGHT (e.g. 70x53um)");
+    std::string width(trim(parts[0]));
+    const std::string height(trim(parts[1]));
+    const std::size_t unit = height.find_last_of("0123456789.") + 1;
+    if (!width.empty() && (std::isdigit(static_cast<unsigned char>(width.back())) || width.back() == '.'))
+        width += height.substr(std::min(unit, height.size()));
+    footprint.size_um = parse_length_um(width);
+    footprint.size_y_um = parse_length_um(height);
+    // A zero height would read as "square" (Footprint::size_y_um), so it is refused here.
+    if (!(footprint.size_y_um > 0.0))
+        throw Error("box footprint sides must be between 0 and 100 mm, got " + shortest_text(footprint.size_y_um) + " um");
 }
 
 std::vector<double> parse_pair(const std::string& text) {
@@ -153,14 +176,18 @@ const std::vector<KeyBinding>& bindings() {
              if (q.footprint.shape != FootprintShape::gaussian) return std::nullopt;
              return shortest_text(q.footprint.sigma_um);
          }},
-        {{"box", "LENGTH", "use a box footprint of this side instead of a Gaussian", ""},
+        {{"box", "LENGTH[xLENGTH]",
+          "use a box footprint of this side (or these sides along x and y, e.g. 70x53um, Dong 2015's patches) "
+          "instead of a Gaussian",
+          ""},
          [](LobeQuery& q, const std::string& t) {
              q.footprint.shape = FootprintShape::box;
-             q.footprint.size_um = parse_length_um(t);
+             set_box_sides(q.footprint, t);
          },
          [](const LobeQuery& q) -> std::optional<std::string> {
              if (q.footprint.shape != FootprintShape::box) return std::nullopt;
-             return shortest_text(q.footprint.size_um);
+             const double width = box_width_um(q.footprint), height = box_height_um(q.footprint);
+             return width == height ? shortest_text(width) : shortest_text(width) + "x" + shortest_text(height);
          }},
         {{"omega_i", "X,Y,Z", "incident direction as an exact unit vector (written by the tool for re-runs)", ""},
          [](LobeQuery& q, const std::string& t) { q.omega_i = exact_direction(t); },

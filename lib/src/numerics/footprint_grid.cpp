@@ -19,28 +19,31 @@ FootprintExtent footprint_extent(const Footprint& footprint, double window_sigma
     extent.centre_um = footprint.centre_um;
     if (footprint.shape == FootprintShape::box) {
         extent.box = true;
-        extent.half_width_um = 0.5 * footprint.size_um;
-        extent.area_um2 = footprint.size_um * footprint.size_um;
-        extent.spectral_width = 1.0 / footprint.size_um;
+        const double width = box_width_um(footprint), height = box_height_um(footprint);
+        extent.half_width_um = {0.5 * width, 0.5 * height};
+        extent.area_um2 = width * height;
+        extent.spectral_width = 1.0 / std::min(width, height);
     } else {
         extent.sigma_um = footprint.sigma_um;
-        extent.half_width_um = window_sigmas * footprint.sigma_um;
+        extent.half_width_um = {window_sigmas * footprint.sigma_um, window_sigmas * footprint.sigma_um};
         extent.area_um2 = pi * footprint.sigma_um * footprint.sigma_um;
         extent.spectral_width = 1.0 / (2.0 * pi * footprint.sigma_um);
     }
     return extent;
 }
 
-SampleAxis sample_axis(const FootprintExtent& extent, double centre_um, double step_um, int max_count) {
-    const double cells = 2.0 * extent.half_width_um / step_um;
+SampleAxis sample_axis(const FootprintExtent& extent, bool along_x, double step_um, int max_count) {
+    const double half_width = along_x ? extent.half_width_um.x : extent.half_width_um.y;
+    const double centre_um = along_x ? extent.centre_um.x : extent.centre_um.y;
+    const double cells = 2.0 * half_width / step_um;
     if (!(cells < max_count))
         throw Error("a step of " + shortest_text(step_um) + " um needs more than " + std::to_string(max_count) +
-                    " samples across the " + shortest_text(2.0 * extent.half_width_um) +
+                    " samples across the " + shortest_text(2.0 * half_width) +
                     " um footprint; use a larger step or a smaller footprint");
     if (extent.box) {
         const int count = std::max(1, static_cast<int>(std::ceil(cells)));
-        const double step = 2.0 * extent.half_width_um / count;
-        return {count, step, centre_um - extent.half_width_um + 0.5 * step};
+        const double step = 2.0 * half_width / count;
+        return {count, step, centre_um - half_width + 0.5 * step};
     }
     const int half = std::max(1, static_cast<int>(std::ceil(0.5 * cells)));
     return {2 * half + 1, step_um, centre_um - half * step_um};

@@ -9,14 +9,14 @@
 
 namespace glintscope {
 
-// The sampled square of the coherence footprint (conventions.md "Coherence / footprint").
+// The sampled rectangle of the coherence footprint (conventions.md "Coherence / footprint").
 struct FootprintExtent {
     Point2 centre_um;
-    double half_width_um = 0.0;  // Gaussian: window·σ_c; box: side/2
+    Point2 half_width_um;        // per axis; Gaussian: window·σ_c; box: side/2
     bool box = false;
     double sigma_um = 0.0;       // Gaussian only
-    double area_um2 = 0.0;       // A_c = ∫|w|² ds: πσ_c² or side²
-    double spectral_width = 0.0; // width of w̃ in cycles/µm: 1/(2πσ_c) or 1/side
+    double area_um2 = 0.0;       // A_c = ∫|w|² ds: πσ_c² or the box's area
+    double spectral_width = 0.0; // width of w̃ in cycles/µm: 1/(2πσ_c), or 1/(shorter side)
 };
 
 FootprintExtent footprint_extent(const Footprint& footprint, double window_sigmas);
@@ -29,8 +29,9 @@ struct SampleAxis {
     double first_um = 0.0;
 };
 
-// Throws Error when the step would need more than `max_count` samples across the footprint.
-SampleAxis sample_axis(const FootprintExtent& extent, double centre_um, double step_um, int max_count);
+// Along x (`along_x`) or y. Throws Error when the step would need more than `max_count` samples
+// across the footprint.
+SampleAxis sample_axis(const FootprintExtent& extent, bool along_x, double step_um, int max_count);
 
 struct FootprintSamples {
     SampleAxis x;

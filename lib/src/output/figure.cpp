@@ -129,8 +129,11 @@ std::vector<std::string> caption_lines(const LobeImage& lobe) {
                          number(std::stod(metadata(lobe, "info.phi_i_deg"))) + " deg");
     if (!metadata(lobe, "query.sigma_c").empty())
         second.push_back("sigma_c " + number(std::stod(metadata(lobe, "query.sigma_c"))) + " um");
-    else if (!metadata(lobe, "query.box").empty())
-        second.push_back("box " + number(std::stod(metadata(lobe, "query.box"))) + " um");
+    else if (!metadata(lobe, "query.box").empty()) {
+        std::vector<std::string> sides;  // "70" or "70x53" (query_keys.cpp)
+        for (const std::string& side : split(metadata(lobe, "query.box"), 'x')) sides.push_back(number(std::stod(side)));
+        second.push_back("box " + join(sides, " x ") + " um");
+    }
     else if (metadata(lobe, "query.footprint") == "whole")
         second.push_back("whole field");
     const std::string guides = lobe.quantity == Quantity::brdf ? "rings: theta_o 30, 60 deg; cyan: mirror direction"
@@ -373,7 +376,8 @@ void draw_footprint(OIIO::ImageBuf& picture, int x0, int y0, int w, int h, const
             const double cy = footprint.centre_um.y + ty * field.height_um();
             const int px = x0 + int(std::lround(cx * sx)), py = y0 + h - int(std::lround(cy * sy));
             if (footprint.shape == FootprintShape::box) {
-                const int hx = int(std::lround(0.5 * footprint.size_um * sx)), hy = int(std::lround(0.5 * footprint.size_um * sy));
+                const int hx = int(std::lround(0.5 * box_width_um(footprint) * sx));
+                const int hy = int(std::lround(0.5 * box_height_um(footprint) * sy));
                 OIIO::ImageBufAlgo::render_box(picture, px - hx, py - hy, px + hx, py + hy, kFootprint,
                                                false, OIIO::ROI(x0, x0 + w, y0, y0 + h));
                 continue;
@@ -408,7 +412,11 @@ OIIO::ImageBuf height_panel(const Heightfield& field, ColorMap map, const Footpr
                           number(field.texel_um, 4) + " um";
     if (footprint)
         caption += footprint->shape == FootprintShape::box
-                       ? ", box footprint " + number(footprint->size_um, 4) + " um"
+                       ? ", box footprint " + number(box_width_um(*footprint), 4) +
+                             (box_height_um(*footprint) != box_width_um(*footprint)
+                                  ? " x " + number(box_height_um(*footprint), 4)
+                                  : "") +
+                             " um"
                        : ", footprint sigma_c " + number(footprint->sigma_um, 4) + " um (dashed: 3.25 sigma_c)";
     OIIO::ImageBuf picture =
         blank(std::max(left + w + 2 * kMargin + kBarWidth + 80, left + text_width(caption) + kMargin), top + h + 70);

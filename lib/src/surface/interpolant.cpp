@@ -102,8 +102,8 @@ SurfacePoint BicubicInterpolant::evaluate(double x_um, double y_um) const {
     return combine(grid_, cols_, inverse_texel_, axis_taps(x_um, texel_um_, cols_), axis_taps(y_um, texel_um_, rows_));
 }
 
-void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_um, int nx, int ny,
-                                       SurfacePoint* out) const {
+void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_x_um, double step_y_um, int nx,
+                                       int ny, SurfacePoint* out) const {
     // combine() separated: each sample row is filtered along x once per block of columns (its
     // inner sums, bit-identical to combine's) and reused by every grid row that reads it.
     constexpr int kBlock = 64;
@@ -117,11 +117,11 @@ void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_u
     FilteredRow cache[kCachedRows];
     for (int i0 = 0; i0 < nx; i0 += kBlock) {
         const int count = std::min(kBlock, nx - i0);
-        for (int i = 0; i < count; ++i) x_taps[i] = axis_taps(x0_um + (i0 + i) * step_um, texel_um_, cols_);
+        for (int i = 0; i < count; ++i) x_taps[i] = axis_taps(x0_um + (i0 + i) * step_x_um, texel_um_, cols_);
         for (FilteredRow& row : cache) row.index = -1;
         int next_slot = 0;
         for (int j = 0; j < ny; ++j) {
-            const AxisTaps y = axis_taps(y0_um + j * step_um, texel_um_, rows_);
+            const AxisTaps y = axis_taps(y0_um + j * step_y_um, texel_um_, rows_);
             const FilteredRow* rows[4];
             bool in_use[kCachedRows] = {};
             for (int m = 0; m < 4; ++m) {

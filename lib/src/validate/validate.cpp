@@ -14,11 +14,6 @@
 namespace glintscope {
 namespace {
 
-// How far a footprint reaches: the Gaussian truncation every wave method uses, or half a box.
-double footprint_reach_um(const Footprint& footprint) {
-    return footprint.shape == FootprintShape::box ? 0.5 * footprint.size_um : 3.25 * footprint.sigma_um;
-}
-
 struct Timed {
     LobeImage image;
     double seconds = 0.0;
@@ -41,12 +36,12 @@ std::string describe_case(const Point2& centre, DiffractionModel model, int kern
 std::vector<Point2> footprint_centres(const Heightfield& field, const Footprint& footprint, int count, bool grid,
                                       unsigned seed) {
     if (count < 1 || count > 100000) throw Error("the number of footprints must be 1 to 100000, got " + std::to_string(count));
-    const double reach = footprint_reach_um(footprint);
-    const auto span = [&](double size) {  // [lo, hi] of allowed centres along one axis
-        return size > 2.0 * reach ? std::pair{reach, size - reach} : std::pair{0.0, size};
+    const Point2 reach = footprint_support_um(footprint);
+    const auto span = [&](double size, double reach_um) {  // [lo, hi] of allowed centres along one axis
+        return size > 2.0 * reach_um ? std::pair{reach_um, size - reach_um} : std::pair{0.0, size};
     };
-    const auto [x0, x1] = span(field.width_um());
-    const auto [y0, y1] = span(field.height_um());
+    const auto [x0, x1] = span(field.width_um(), reach.x);
+    const auto [y0, y1] = span(field.height_um(), reach.y);
     std::vector<Point2> centres;
     if (grid) {
         const int side = static_cast<int>(std::ceil(std::sqrt(double(count))));

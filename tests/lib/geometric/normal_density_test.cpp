@@ -147,6 +147,37 @@ TEST(NormalDensity, ParaboloidIsAGaussianInSlopeSpace) {
     EXPECT_LT(error, 0.01);
 }
 
+TEST(NormalDensity, RectangularBoxOfAParaboloidSpreadsTheSlopesOverEachSide) {
+    // H = ½ a |s − o|²: the slope a (s − o) is uniform over the box's image, a rectangle of sides
+    // a·W and a·H, so its variances are a²W²/12 and a²H²/12 (Dong 2015 measures 70 × 53 µm patches).
+    const double a = 0.004;
+    const Point2 origin{128.0, 128.0};
+    const BicubicInterpolant surface(field_from(256, 256, 1.0, [&](double x, double y) {
+        return 0.5 * a * ((x - origin.x) * (x - origin.x) + (y - origin.y) * (y - origin.y));
+    }));
+    Footprint box;
+    box.shape = FootprintShape::box;
+    box.centre_um = origin;
+    box.size_um = 60.0;
+    box.size_y_um = 30.0;
+    const int n = 256;
+    const std::vector<double> density = normal_density(surface, box, n, {});
+    double mass = 0.0, var_x = 0.0, var_y = 0.0;
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c) {
+            const DiskPoint h = disk_pixel_point(r, c, n);
+            if (!inside_unit_disk(h)) continue;
+            const double hz = std::sqrt(1.0 - h.x * h.x - h.y * h.y);
+            const double m = density[r * n + c] * disk_pixel_area(n);
+            mass += m;
+            var_x += m * (h.x / hz) * (h.x / hz);
+            var_y += m * (h.y / hz) * (h.y / hz);
+        }
+    EXPECT_NEAR(mass, 1.0, 1e-9);
+    EXPECT_NEAR(var_x / (a * a * 60.0 * 60.0 / 12.0), 1.0, 0.01);
+    EXPECT_NEAR(var_y / (a * a * 30.0 * 30.0 / 12.0), 1.0, 0.01);
+}
+
 TEST(NormalDensity, SinusoidOverWholePeriodsFollowsTheArcsineLawWithSharpEdges) {
     // H = A sin(2πx/Λ): the slope s = H_x is s_max cos(2πx/Λ), uniformly distributed in phase,
     // so its law is the arcsine law with CDF ½ + asin(s/s_max)/π, and all normals have m_y = 0.

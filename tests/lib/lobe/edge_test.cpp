@@ -71,6 +71,21 @@ TEST(FootprintEdge, BoxSupportIsHalfItsSideAndATooLargeFootprintFitsNowhere) {
     }
 }
 
+TEST(FootprintEdge, ARectangularBoxReachesHalfOfEachSide) {
+    LobeQuery box = query_at({32.0, 10.0}, false);  // the 64 µm square field
+    box.footprint.shape = FootprintShape::box;
+    box.footprint.size_um = 60.0;    // reaches 30 µm along x: fits at x = 32
+    box.footprint.size_y_um = 20.0;  // reaches 10 µm along y: fits at y = 10, not below
+    EXPECT_NO_THROW(check_footprint_inside(box));
+    box.footprint.centre_um.y = 9.5;
+    try {
+        check_footprint_inside(box);
+        FAIL() << "a box crossing the lower edge was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("y 10 um to 54 um"), std::string::npos) << e.what();
+    }
+}
+
 TEST(FootprintEdge, PreparationEndsPeriodicityOnlyWhereTheFieldStopsTiling) {
     Heightfield field = make_heightfield(16, 16, 1.0);
     ASSERT_TRUE(field.periodic);

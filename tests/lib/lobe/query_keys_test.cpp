@@ -44,6 +44,23 @@ TEST(QueryKeys, TextToQueryToTextIsAFixedPoint) {
     EXPECT_EQ(rewritten, written);
 }
 
+TEST(QueryKeys, ABoxTakesOneSideOrTwoWithTheUnitWrittenOnce) {
+    const LobeQuery rectangle = make_query({{"heightfield", "builtin:grating"}, {"box", "0.07x0.053mm"}});
+    EXPECT_EQ(rectangle.footprint.shape, FootprintShape::box);
+    EXPECT_DOUBLE_EQ(box_width_um(rectangle.footprint), 70.0);
+    EXPECT_DOUBLE_EQ(box_height_um(rectangle.footprint), 53.0);
+    EXPECT_EQ(value_of(query_text(rectangle), "box"), "70x53");
+    const LobeQuery mixed = make_query({{"heightfield", "builtin:grating"}, {"box", "70um x 0.053mm"}});
+    EXPECT_DOUBLE_EQ(box_height_um(mixed.footprint), 53.0);
+    const LobeQuery square = make_query({{"heightfield", "builtin:grating"}, {"box", "20um"}});
+    EXPECT_DOUBLE_EQ(box_height_um(square.footprint), 20.0);
+    EXPECT_EQ(value_of(query_text(square), "box"), "20");
+    EXPECT_NE(error_of({{"heightfield", "builtin:grating"}, {"box", "70x53x2um"}}).find("WIDTHxHEIGHT"), std::string::npos);
+    EXPECT_NE(error_of({{"heightfield", "builtin:grating"}, {"box", "70x"}}).find("query key box:"), std::string::npos);
+    EXPECT_NE(error_of({{"heightfield", "builtin:grating"}, {"box", "70x0um"}}).find("box footprint sides"),
+              std::string::npos);
+}
+
 TEST(QueryKeys, TheFootprintDefaultsToTheHeightfieldCentre) {
     const LobeQuery query = make_query({{"heightfield", "builtin:grating"}});
     EXPECT_DOUBLE_EQ(query.footprint.centre_um.x, query.field->centre_um().x);

@@ -58,7 +58,8 @@ FlakeFootprint flake_footprint(const Footprint& footprint) {
     flake.centre_y = footprint.centre_um.y;
     flake.gaussian = footprint.shape == FootprintShape::gaussian;
     flake.sigma_um = footprint.sigma_um;
-    flake.size_um = footprint.size_um;
+    flake.size_um = box_width_um(footprint);
+    flake.size_y_um = box_height_um(footprint);
     return flake;
 }
 
@@ -69,7 +70,9 @@ void setup_discrete(const LobeQuery& query, DiscreteSetup& setup) {
     setup.integrals = integrate_distribution(std::move(smooth.density), 1e-2, 1e-8, smooth.table_depth);
     setup.footprint = flake_footprint(query.footprint);
     const double tile = method_option_length_um(query, "tile", 1000.0);
-    const double reach = setup.footprint.gaussian ? 5.0 * setup.footprint.sigma_um : 0.5 * setup.footprint.size_um;
+    const double reach = setup.footprint.gaussian
+                             ? 5.0 * setup.footprint.sigma_um
+                             : 0.5 * std::max(setup.footprint.size_um, setup.footprint.size_y_um);
     if (!(tile >= 4.0 * reach && tile <= 1e6))
         throw Error("option tile must be at least four times the footprint's reach (" + shortest_text(4.0 * reach) +
                     " um) and at most 1 m, got " + shortest_text(tile) + " um");
@@ -99,8 +102,9 @@ void setup_discrete(const LobeQuery& query, DiscreteSetup& setup) {
     setup.material.flakes = tile_flakes;
     setup.material.seed = static_cast<std::uint64_t>(seed);
     // Eq. 11's expected query area: the region the footprint's weight reaches (a Gaussian's ±5σ_c
-    // square, whose every node the traversal visits), not its effective area A_c.
-    setup.material.query_area_um2 = 4.0 * reach * reach;
+    // square, whose every node the traversal visits; a box itself), not its effective area A_c.
+    setup.material.query_area_um2 =
+        setup.footprint.gaussian ? 4.0 * reach * reach : setup.footprint.size_um * setup.footprint.size_y_um;
     // Eq. 11's expected solid angle: the set Ω_h at the centre of the image (a cap of γ/2 for a lobe,
     // of γ for an NDF).
     const double cap = query.quantity == Quantity::ndf ? setup.cone : 0.5 * setup.cone;

@@ -11,7 +11,7 @@
 
 namespace glintscope {
 
-double FlakeFootprint::area_um2() const { return gaussian ? pi * sigma_um * sigma_um : size_um * size_um; }
+double FlakeFootprint::area_um2() const { return gaussian ? pi * sigma_um * sigma_um : size_um * size_y_um; }
 
 FlakeNode root_node(const FlakeMaterial& material) {
     FlakeNode root;
@@ -140,7 +140,7 @@ double gaussian_mean(double a, double b, double c, double sigma) {
 
 constexpr double kGaussianCut = 5.0;  // in σ: exp(−25) ≈ 1.4e-11
 
-AxisShare axis_share(double a, double size, double centre, const FlakeFootprint& footprint, double tile) {
+AxisShare axis_share(double a, double size, double centre, double side, const FlakeFootprint& footprint, double tile) {
     AxisShare share;
     const double b = a + size;
     for (int image = -1; image <= 1; ++image) {
@@ -151,7 +151,7 @@ AxisShare axis_share(double a, double size, double centre, const FlakeFootprint&
             share.mean += gaussian_mean(a, b, c, footprint.sigma_um);
             share.mean_square += gaussian_mean(a, b, c, footprint.sigma_um / std::sqrt(2.0));
         } else {
-            const double low = c - 0.5 * footprint.size_um, high = c + 0.5 * footprint.size_um;
+            const double low = c - 0.5 * side, high = c + 0.5 * side;
             const double length = std::min(b, high) - std::max(a, low);
             if (length <= 0.0) continue;
             share.overlaps = true;
@@ -165,8 +165,8 @@ AxisShare axis_share(double a, double size, double centre, const FlakeFootprint&
 }
 
 SpatialShare spatial_share(const FlakeNode& node, const FlakeFootprint& footprint, double tile) {
-    const AxisShare x = axis_share(node.x0, node.size, footprint.centre_x, footprint, tile);
-    const AxisShare y = axis_share(node.y0, node.size, footprint.centre_y, footprint, tile);
+    const AxisShare x = axis_share(node.x0, node.size, footprint.centre_x, footprint.size_um, footprint, tile);
+    const AxisShare y = axis_share(node.y0, node.size, footprint.centre_y, footprint.size_y_um, footprint, tile);
     SpatialShare share;
     share.disjoint = !(x.overlaps && y.overlaps);
     share.inside = x.inside && y.inside;
@@ -180,7 +180,7 @@ double flake_weight(const FlakeFootprint& footprint, double tile, double x, doub
     const auto offset = [tile](double d) { return d - tile * std::round(d / tile); };
     const double dx = offset(x - footprint.centre_x), dy = offset(y - footprint.centre_y);
     if (!footprint.gaussian)
-        return std::abs(dx) <= 0.5 * footprint.size_um && std::abs(dy) <= 0.5 * footprint.size_um ? 1.0 : 0.0;
+        return std::abs(dx) <= 0.5 * footprint.size_um && std::abs(dy) <= 0.5 * footprint.size_y_um ? 1.0 : 0.0;
     const double cut = kGaussianCut * footprint.sigma_um;
     if (std::abs(dx) >= cut || std::abs(dy) >= cut) return 0.0;
     return std::exp(-(dx * dx + dy * dy) / (footprint.sigma_um * footprint.sigma_um));

@@ -26,7 +26,8 @@ struct FlakeMaterial {
     double query_solid_angle = 1e-4;  // eq. 11's E[σ(query)]
 };
 
-// The footprint as a weight on flakes: a box of side `size_um` counts each flake inside once; a
+// The footprint as a weight on flakes: a box of sides `size_um` (along x) and `size_y_um` counts
+// each flake inside once; a
 // Gaussian counts exp(−|x − c|²/σ²) (σ = σ_c: the normalised weight |w|²/A_c of conventions.md
 // times A_c), cut where it falls below e^−25. `area_um2` is ∫ weight: the box area, or πσ_c² = A_c.
 struct FlakeFootprint {
@@ -34,6 +35,7 @@ struct FlakeFootprint {
     bool gaussian = true;
     double sigma_um = 10.0;
     double size_um = 0.0;
+    double size_y_um = 0.0;
     double area_um2() const;
 };
 

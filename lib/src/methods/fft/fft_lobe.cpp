@@ -274,17 +274,18 @@ constexpr double kSlopePadding = 1.02;
 // max |∂H/∂x|, max |∂H/∂y| over the footprint from a grid at a quarter texel (at most 1024
 // cells across), padded; sample_for_wavelength checks them on the final grid.
 SlopeBound footprint_slopes(const BicubicInterpolant& surface, const FootprintExtent& extent) {
-    const double step = std::max(0.25 * surface.texel_um(), 2.0 * extent.half_width_um / 1024.0);
+    const double widest = std::max(extent.half_width_um.x, extent.half_width_um.y);
+    const double step = std::max(0.25 * surface.texel_um(), 2.0 * widest / 1024.0);
     const FootprintSamples coarse =
-        sample_footprint(surface, extent, sample_axis(extent, extent.centre_um.x, step, kMaxSamplesPerAxis),
-                         sample_axis(extent, extent.centre_um.y, step, kMaxSamplesPerAxis), false);
+        sample_footprint(surface, extent, sample_axis(extent, true, step, kMaxSamplesPerAxis),
+                         sample_axis(extent, false, step, kMaxSamplesPerAxis), false);
     return {kSlopePadding * coarse.max_slope_x, kSlopePadding * coarse.max_slope_y};
 }
 
 FootprintSamples sample_on_axes(const LobeQuery& query, const FootprintExtent& extent, double step_x,
                                 double step_y) {
-    const SampleAxis x = sample_axis(extent, extent.centre_um.x, step_x, kMaxSamplesPerAxis);
-    const SampleAxis y = sample_axis(extent, extent.centre_um.y, step_y, kMaxSamplesPerAxis);
+    const SampleAxis x = sample_axis(extent, true, step_x, kMaxSamplesPerAxis);
+    const SampleAxis y = sample_axis(extent, false, step_y, kMaxSamplesPerAxis);
     if (static_cast<std::size_t>(x.count) * y.count > kMaxSamples)
         throw Error("the footprint grid would need " + std::to_string(x.count) + "x" + std::to_string(y.count) +
                     " samples, about " +
@@ -382,14 +383,15 @@ void truncate_at_edges(FootprintSamples& samples, const Heightfield& field) {
 // The part of ∫|w|² ds inside the field: per axis, |w|² = e^{−p²/σ_c²} keeps
 // [erf((W − c)/σ_c) + erf(c/σ_c)]/2, and a box of side a keeps its overlap with [0, W] over a.
 double energy_inside(const Footprint& footprint, const Heightfield& field) {
-    const auto along = [&](double c, double extent) {
+    const auto along = [&](double c, double extent, double side) {
         if (footprint.shape == FootprintShape::box) {
-            const double half = 0.5 * footprint.size_um;
-            return std::max(0.0, std::min(c + half, extent) - std::max(c - half, 0.0)) / footprint.size_um;
+            const double half = 0.5 * side;
+            return std::max(0.0, std::min(c + half, extent) - std::max(c - half, 0.0)) / side;
         }
         return 0.5 * (std::erf((extent - c) / footprint.sigma_um) + std::erf(c / footprint.sigma_um));
     };
-    return along(footprint.centre_um.x, field.width_um()) * along(footprint.centre_um.y, field.height_um());
+    return along(footprint.centre_um.x, field.width_um(), box_width_um(footprint)) *
+           along(footprint.centre_um.y, field.height_um(), box_height_um(footprint));
 }
 
 }  // namespace
@@ -425,7 +427,9 @@ void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometr
     image.metadata["fft.grid"] = GridRecord::join(record.grids);
     image.metadata["fft.max_slope"] = GridRecord::join(record.slopes);
     image.metadata["fft.xi3_slices"] = GridRecord::join(record.slices);
-    image.metadata["fft.half_width_um"] = shortest_text(extent.half_width_um);
+    image.metadata["fft.half_width_um"] = shortest_text(extent.half_width_um.x);
+    if (extent.half_width_um.y != extent.half_width_um.x)
+        image.metadata["fft.half_height_um"] = shortest_text(extent.half_width_um.y);
     image.metadata["fft.guard_widths"] = shortest_text(settings.guard_widths);
     image.metadata["fft.oversampling"] = shortest_text(settings.oversampling);
     if (varying_xi3) image.metadata["fft.phase_error"] = shortest_text(settings.phase_error);

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "glintscope/error.hpp"
+#include "glintscope/text_format.hpp"
 
 // The SIMD helpers here and in gabor_math.hpp are always inlined, so the vector calling
 // convention that -Wpsabi warns about never applies.
@@ -101,6 +102,11 @@ void evaluate_kernels(const BicubicInterpolant& surface, const KernelGrid& grid,
 
 CoherenceWindow::CoherenceWindow(const Footprint& footprint, double footprint_sigmas) {
     box_ = footprint.shape == FootprintShape::box;
+    if (box_ && box_height_um(footprint) != box_width_um(footprint))
+        throw Error("gabor: a box footprint must be square here (got " + shortest_text(box_width_um(footprint)) + " x " +
+                    shortest_text(box_height_um(footprint)) +
+                    " um): its kernels are gathered over a square; fft, stam, pndf, filtered, geometric, dk and "
+                    "discrete take rectangles");
     if (box_) {
         half_extent_um_ = 0.5 * footprint.size_um;
         area_um2_ = footprint.size_um * footprint.size_um;

@@ -198,10 +198,10 @@ StamSurface stam_surface(const LobeQuery& query, Provenance* sources) {
 
 double window_lobe(const Footprint& footprint, double vx, double vy) {
     if (footprint.shape == FootprintShape::box) {
-        // w̃ = a² sinc(π a v_x) sinc(π a v_y), A_c = a².
-        const double a = footprint.size_um;
-        const double amplitude = sinc(pi * a * vx) * sinc(pi * a * vy);
-        return a * a * amplitude * amplitude;
+        // w̃ = a b sinc(π a v_x) sinc(π b v_y), A_c = a b (sides a along x, b along y).
+        const double a = box_width_um(footprint), b = box_height_um(footprint);
+        const double amplitude = sinc(pi * a * vx) * sinc(pi * b * vy);
+        return a * b * amplitude * amplitude;
     }
     // w̃ = 2πσ² e^{−2π²σ²|v|²}, A_c = πσ²: |w̃|²/A_c = 4πσ² e^{−4π²σ²|v|²}.
     const double sigma = footprint.sigma_um;
@@ -344,9 +344,11 @@ void fill_layer(const Evaluation& e, LobeImage& image, std::size_t layer) {
                       [&](DiskPoint p) { return stam_value(e, direction_from_disk(p.x, p.y)); });
 }
 
-// The footprint's linear size for the σ_c ≫ T comparison: σ_c, or half a box's side.
+// The footprint's linear size for the σ_c ≫ T comparison: σ_c, or half a box's shorter side.
 double footprint_scale(const Footprint& footprint) {
-    return footprint.shape == FootprintShape::box ? 0.5 * footprint.size_um : footprint.sigma_um;
+    return footprint.shape == FootprintShape::box
+               ? 0.5 * std::min(box_width_um(footprint), box_height_um(footprint))
+               : footprint.sigma_um;
 }
 
 // Stam's statistics assume many correlation cells (or periods) inside the footprint.

@@ -35,7 +35,7 @@ FlakeFootprint box(double x, double y, double side) {
     footprint.gaussian = false;
     footprint.centre_x = x;
     footprint.centre_y = y;
-    footprint.size_um = side;
+    footprint.size_um = footprint.size_y_um = side;
     return footprint;
 }
 

@@ -150,6 +150,22 @@ TEST(GaborLobe, FlatMirrorReflectsFresnelReflectance) {
     EXPECT_NEAR(flat_mirror_albedo(DiffractionModel::rohs, 2.0, 64, 2), 4.0 / (4.0 + 0.0625), 0.002);
 }
 
+TEST(GaborLobe, RefusesARectangularBoxInOneLineNamingTheMethodsThatTakeIt) {
+    LobeQuery query = isotropic_query(16);
+    query.footprint.shape = FootprintShape::box;
+    query.footprint.size_um = 20.0;
+    query.footprint.size_y_um = 12.0;
+    try {
+        compute_lobe("gabor", query);
+        FAIL() << "a rectangular box was accepted";
+    } catch (const Error& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("must be square here (got 20 x 12 um)"), std::string::npos) << message;
+        EXPECT_NE(message.find("fft, stam, pndf"), std::string::npos) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+}
+
 // ---- Agreement with the FFT ground truth -------------------------------------------------------
 
 // Yan 2018 Fig. 11 quantified: R-OHS at 0.5 µm, σ_c = 10 µm, normal incidence, footprint at the
