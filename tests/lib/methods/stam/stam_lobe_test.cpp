@@ -201,6 +201,28 @@ Specular specular_parts(const LobeQuery& query, double g) {
     return parts;
 }
 
+// window_lobe is the flat mirror's lobe over ξ1, for Dong 2015's rectangular patches too: against
+// the FFT method's lobe of a flat field under a 8 × 5 µm box (OHS, normal incidence).
+TEST(StamLobe, WindowLobeOfARectangularBoxIsTheFlatMirrorsLobe) {
+    LobeQuery flat = query_for(make_heightfield(512, 512, kTexel), DiffractionModel::ohs, kSigmaC, kLambda, 64, 1);
+    flat.footprint.shape = FootprintShape::box;
+    flat.footprint.size_um = 8.0;
+    flat.footprint.size_y_um = 5.0;
+    const LobeImage mirror = compute_lobe("fft", flat);
+    double worst = 0.0, peak = 0.0;
+    for (int r = 0; r < 64; ++r)
+        for (int c = 0; c < 64; ++c) {
+            const DiskPoint p = disk_pixel_point(r, c, 64);
+            const double cos_o2 = 1.0 - p.x * p.x - p.y * p.y;
+            if (cos_o2 <= 0.0) continue;
+            const double xi1 = std::sqrt(cos_o2) / (kLambda * kLambda);  // OHS, θ_i = 0
+            const double expected = xi1 * window_lobe(flat.footprint, p.x / kLambda, p.y / kLambda);
+            worst = std::max(worst, std::fabs(mirror.at(0, r, c) - expected));
+            peak = std::max(peak, expected);
+        }
+    EXPECT_LT(worst / peak, 1e-3);
+}
+
 struct Convergence {
     double diffuse_l2 = 0.0;            // relative L2 of the diffuse parts, away from the peak
     double energy_ratio = 0.0;          // Σ mean FFT / Σ Stam
