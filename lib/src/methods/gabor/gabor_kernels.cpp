@@ -7,7 +7,6 @@
 #include <numbers>
 
 #include "glintscope/error.hpp"
-#include "glintscope/text_format.hpp"
 
 // The SIMD helpers here and in gabor_math.hpp are always inlined, so the vector calling
 // convention that -Wpsabi warns about never applies.
@@ -102,31 +101,26 @@ void evaluate_kernels(const BicubicInterpolant& surface, const KernelGrid& grid,
 
 CoherenceWindow::CoherenceWindow(const Footprint& footprint, double footprint_sigmas) {
     box_ = footprint.shape == FootprintShape::box;
-    if (box_ && box_height_um(footprint) != box_width_um(footprint))
-        throw Error("gabor: a box footprint must be square here (got " + shortest_text(box_width_um(footprint)) + " x " +
-                    shortest_text(box_height_um(footprint)) +
-                    " um): its kernels are gathered over a square; fft, stam, pndf, filtered, geometric, dk and "
-                    "discrete take rectangles");
     if (box_) {
-        half_extent_um_ = 0.5 * footprint.size_um;
-        area_um2_ = footprint.size_um * footprint.size_um;
+        half_extent_um_ = {0.5 * box_width_um(footprint), 0.5 * box_height_um(footprint)};
+        area_um2_ = box_width_um(footprint) * box_height_um(footprint);
     } else {
         const double sigma = footprint.sigma_um;
         inverse_two_variance_ = 1.0 / (2.0 * sigma * sigma);
-        half_extent_um_ = footprint_sigmas * sigma;
-        radius_squared_ = half_extent_um_ * half_extent_um_;
+        half_extent_um_ = {footprint_sigmas * sigma, footprint_sigmas * sigma};
+        radius_squared_ = half_extent_um_.x * half_extent_um_.x;
         area_um2_ = pi * sigma * sigma;
     }
 }
 
 void CoherenceWindow::check_kernel_count(const KernelGrid& grid) const {
-    const double per_side = 2.0 * half_extent_um_ / grid.spacing_um + 1.0;
-    if (per_side * per_side > kMaxFootprintKernels) {
+    const double kernels = (2.0 * half_extent_um_.x / grid.spacing_um + 1.0) * (2.0 * half_extent_um_.y / grid.spacing_um + 1.0);
+    if (kernels > kMaxFootprintKernels) {
         char message[200];
         std::snprintf(message, sizeof message,
                       "gabor: the footprint covers %.3g kernels (limit %.3g); use a smaller footprint or fewer "
                       "kernels_per_texel",
-                      per_side * per_side, kMaxFootprintKernels);
+                      kernels, kMaxFootprintKernels);
         throw Error(message);
     }
 }

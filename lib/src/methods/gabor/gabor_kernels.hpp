@@ -37,10 +37,11 @@ class CoherenceWindow {
 public:
     CoherenceWindow(const Footprint& footprint, double footprint_sigmas);
 
-    // The support lies in the square |p_x|, |p_y| ≤ half_extent_um().
-    double half_extent_um() const { return half_extent_um_; }
+    // The support lies in the rectangle |p_x| ≤ half_extent_um().x, |p_y| ≤ half_extent_um().y
+    // (a box's half sides; a Gaussian's truncation radius on both).
+    Point2 half_extent_um() const { return half_extent_um_; }
     bool contains(double px, double py) const {
-        return box_ ? std::fabs(px) <= half_extent_um_ && std::fabs(py) <= half_extent_um_
+        return box_ ? std::fabs(px) <= half_extent_um_.x && std::fabs(py) <= half_extent_um_.y
                     : px * px + py * py <= radius_squared_;
     }
     double weight(double px, double py) const {  // separable: weight(px, 0) · weight(0, py)
@@ -53,14 +54,14 @@ public:
     // Whether the support meets the rectangle [x_min, x_max] × [y_min, y_max] of p.
     bool overlaps(double x_min, double x_max, double y_min, double y_max) const;
     double area_um2() const { return area_um2_; }  // A_c = ∫|w|² ds
-    // Throws Error when the support's bounding square holds more than kMaxFootprintKernels kernels.
+    // Throws Error when the support's bounding rectangle holds more than kMaxFootprintKernels kernels.
     void check_kernel_count(const KernelGrid& grid) const;
 
 private:
     bool box_ = false;
     double inverse_two_variance_ = 0.0;  // 1/(2σ_c²)
     double radius_squared_ = 0.0;  // Gaussian support: |p| ≤ footprint_sigmas σ_c
-    double half_extent_um_ = 0.0;
+    Point2 half_extent_um_;
     double area_um2_ = 0.0;
 };
 
@@ -74,7 +75,7 @@ inline long long clamp_kernel_index(double index, long long lo, long long hi) {
 // Inline: a point query calls these once per kernel row and per hierarchy node.
 inline bool CoherenceWindow::row_span(const KernelGrid& grid, double centre_x, double py, long long lo,
                                       long long hi, long long& first, long long& last) const {
-    const double reach2 = box_ ? (std::fabs(py) <= half_extent_um_ ? half_extent_um_ * half_extent_um_ : -1.0)
+    const double reach2 = box_ ? (std::fabs(py) <= half_extent_um_.y ? half_extent_um_.x * half_extent_um_.x : -1.0)
                                : radius_squared_ - py * py;
     if (reach2 < 0.0) return false;
     // The support's chord at p_y, in kernel indices, then confirmed with contains() at its ends.
@@ -92,8 +93,8 @@ inline bool CoherenceWindow::row_span(const KernelGrid& grid, double centre_x, d
 
 inline bool CoherenceWindow::overlaps(double x_min, double x_max, double y_min, double y_max) const {
     if (box_)
-        return x_max >= -half_extent_um_ && x_min <= half_extent_um_ && y_max >= -half_extent_um_ &&
-               y_min <= half_extent_um_;
+        return x_max >= -half_extent_um_.x && x_min <= half_extent_um_.x && y_max >= -half_extent_um_.y &&
+               y_min <= half_extent_um_.y;
     const double dx = std::max({x_min, -x_max, 0.0});  // distance from the origin to the rectangle
     const double dy = std::max({y_min, -y_max, 0.0});
     return dx * dx + dy * dy <= radius_squared_;

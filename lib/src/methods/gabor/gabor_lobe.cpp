@@ -46,8 +46,8 @@ FootprintKernels gather_kernels(const BicubicInterpolant& surface, const KernelG
                                 const gabor::CoherenceWindow& window, Point2 centre) {
     window.check_kernel_count(grid);
     long long i0, i1, j0, j1;
-    index_range(centre.x, window.half_extent_um(), grid.spacing_um, i0, i1);
-    index_range(centre.y, window.half_extent_um(), grid.spacing_um, j0, j1);
+    index_range(centre.x, window.half_extent_um().x, grid.spacing_um, i0, i1);
+    index_range(centre.y, window.half_extent_um().y, grid.spacing_um, j0, j1);
     const double reference_height = surface.height(centre.x, centre.y);
     const double weight_scale = grid.spacing_um * grid.spacing_um;
     FootprintKernels kernels;

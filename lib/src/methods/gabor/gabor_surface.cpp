@@ -237,8 +237,8 @@ constexpr double kReachMargin = 1.0 + 1e-9;
 class SeparableWeights {
 public:
     void tabulate(const gabor::CoherenceWindow& window, const gabor::KernelGrid& grid, double cx, double cy) {
-        tabulate_axis(window, grid, cx, first_column_, columns_);
-        tabulate_axis(window, grid, cy, first_row_, rows_);
+        tabulate_axis(window, grid, cx, window.half_extent_um().x, first_column_, columns_);
+        tabulate_axis(window, grid, cy, window.half_extent_um().y, first_row_, rows_);
     }
     double along_x(long long i) const { return columns_[i - first_column_]; }
     const double* columns() const { return columns_.data(); }  // along_x of first_column(), …
@@ -247,8 +247,7 @@ public:
 
 private:
     static void tabulate_axis(const gabor::CoherenceWindow& window, const gabor::KernelGrid& grid, double centre,
-                              long long& first, std::vector<double>& factors) {
-        const double extent = window.half_extent_um();
+                              double extent, long long& first, std::vector<double>& factors) {
         first = static_cast<long long>(std::floor((centre - extent) / grid.spacing_um - 0.5));
         const long long last = static_cast<long long>(std::ceil((centre + extent) / grid.spacing_um - 0.5));
         factors.resize(last - first + 1);
@@ -345,8 +344,10 @@ void check_finite(const GaborPointQuery& query) {
     if (!std::isfinite(wi.x + wi.y + wi.z + wo.x + wo.y + wo.z + c.x + c.y))
         throw Error("gabor: point query directions and footprint centre must be finite");
     const bool box = query.footprint.shape == FootprintShape::box;
-    const double size = box ? query.footprint.size_um : query.footprint.sigma_um;
-    if (!(size > 0.0 && size <= 1e5)) throw Error("gabor: point query footprint size must be positive and finite");
+    const Footprint& footprint = query.footprint;
+    const double smallest = box ? std::min(box_width_um(footprint), box_height_um(footprint)) : footprint.sigma_um;
+    const double largest = box ? std::max(box_width_um(footprint), box_height_um(footprint)) : footprint.sigma_um;
+    if (!(smallest > 0.0 && largest <= 1e5)) throw Error("gabor: point query footprint size must be positive and finite");
 }
 
 }  // namespace
@@ -475,7 +476,7 @@ struct GaborSurface::Collector {
     const Point2 centre;
     const double reference_height;
     const double weight_scale;
-    const double extent;
+    const Point2 extent;
     CollectScratch& scratch;
     GaborQueryStatistics counts;
 
@@ -505,14 +506,15 @@ struct GaborSurface::Collector {
     }
 
     bool leaf_range(double cx, double cy, LeafRange& range) const {
-        const auto axis = [&](double c, int count, int& first, int& last) {
-            const double from = std::max(0.0, std::floor((c - extent) / grid.spacing_um - 0.5));
-            const double to = std::min(count - 1.0, std::ceil((c + extent) / grid.spacing_um - 0.5));
+        const auto axis = [&](double c, double reach, int count, int& first, int& last) {
+            const double from = std::max(0.0, std::floor((c - reach) / grid.spacing_um - 0.5));
+            const double to = std::min(count - 1.0, std::ceil((c + reach) / grid.spacing_um - 0.5));
             first = static_cast<int>(std::min(from, count - 1.0)) / kLeafKernels;
             last = static_cast<int>(std::max(to, 0.0)) / kLeafKernels;
             return from <= to;
         };
-        return axis(cx, surface.kernels_x_, range.x0, range.x1) && axis(cy, surface.kernels_y_, range.y0, range.y1);
+        return axis(cx, extent.x, surface.kernels_x_, range.x0, range.x1) &&
+               axis(cy, extent.y, surface.kernels_y_, range.y0, range.y1);
     }
 
     // K = 1 reads the samples of the footprint's rows (and one more on each side), a few cache
@@ -711,10 +713,10 @@ struct GaborSurface::Collector {
     void add_tile_copies() {
         const double tile_x = surface.kernels_x_ * grid.spacing_um;
         const double tile_y = surface.kernels_y_ * grid.spacing_um;
-        for (long long ty = std::llround(std::floor((centre.y - extent) / tile_y));
-             ty <= std::llround(std::floor((centre.y + extent) / tile_y)); ++ty)
-            for (long long tx = std::llround(std::floor((centre.x - extent) / tile_x));
-                 tx <= std::llround(std::floor((centre.x + extent) / tile_x)); ++tx)
+        for (long long ty = std::llround(std::floor((centre.y - extent.y) / tile_y));
+             ty <= std::llround(std::floor((centre.y + extent.y) / tile_y)); ++ty)
+            for (long long tx = std::llround(std::floor((centre.x - extent.x) / tile_x));
+                 tx <= std::llround(std::floor((centre.x + extent.x) / tile_x)); ++tx)
                 add_tile_copy(centre.x - tx * tile_x, centre.y - ty * tile_y);
     }
 };
