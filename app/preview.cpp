@@ -9,7 +9,9 @@
 #include "commands.hpp"
 #include "glintscope/atomic_output.hpp"
 #include "glintscope/colormap.hpp"
+#include "glintscope/error.hpp"
 #include "glintscope/figure.hpp"
+#include "glintscope/text_format.hpp"
 #include "glintscope/units.hpp"
 #include "glintscope/heightfield_io.hpp"
 #include "options.hpp"
@@ -25,7 +27,7 @@ struct PreviewSettings {
     bool bare = false;
     std::vector<std::string> centre;
     double sigma_c_um = 0.0;
-    double box_um = 0.0;
+    std::string box;
 };
 
 // The footprint to draw, when --centre was given (a Gaussian of --sigma-c, default 10 µm, or
@@ -35,9 +37,14 @@ std::optional<Footprint> footprint_of(const PreviewSettings& settings) {
     Footprint footprint;
     footprint.centre_um = {parse_length_um(settings.centre[0]), parse_length_um(settings.centre[1])};
     if (settings.sigma_c_um > 0.0) footprint.sigma_um = settings.sigma_c_um;
-    if (settings.box_um > 0.0) {
+    if (!settings.box.empty()) {
+        const BoxSides sides = parse_box_sides(settings.box);
+        for (const double side : {sides.width_um, sides.height_um})
+            if (!(side > 0.0 && side <= 1e5))
+                throw Error("--box: sides must be between 0 and 100 mm, got " + shortest_text(side) + " um");
         footprint.shape = FootprintShape::box;
-        footprint.size_um = settings.box_um;
+        footprint.size_um = sides.width_um;
+        footprint.size_y_um = sides.height_um;
     }
     return footprint;
 }
@@ -84,7 +91,8 @@ void add_preview_command(CLI::App& app) {
         ->delimiter(',')
         ->expected(2);
     add_length_option(*command, "--sigma-c", settings->sigma_c_um, "Coherence sigma of the drawn footprint (default 10um)");
-    add_length_option(*command, "--box", settings->box_um, "Draw a box footprint of this side instead");
+    command->add_option("--box", settings->box,
+                        "Draw a box footprint of this side (or sides along x and y, e.g. 70x53um) instead");
     command->callback([settings] { run_preview(*settings); });
 }
 

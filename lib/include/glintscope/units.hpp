@@ -12,6 +12,14 @@ enum class LengthUnit { texel, um, nm, mm, m };
 // including NaN, infinities and trailing garbage.
 double parse_length_um(std::string_view text);
 
+// A box's sides along x and y: "70um" (a square) or "70x53um" (a unit written once, after the
+// second side, applies to both). Throws Error naming the text.
+struct BoxSides {
+    double width_um = 0.0;
+    double height_um = 0.0;
+};
+BoxSides parse_box_sides(std::string_view text);
+
 // "texel", "um" (or "µm"), "nm", "mm", "m".
 LengthUnit parse_length_unit(std::string_view text);
 std::string to_string(LengthUnit unit);

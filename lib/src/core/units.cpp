@@ -1,22 +1,17 @@
 #include "glintscope/geometry.hpp"
 #include "glintscope/units.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "glintscope/error.hpp"
+#include "glintscope/text_format.hpp"
 
 namespace glintscope {
-namespace {
-
-std::string_view trim(std::string_view text) {
-    while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
-    while (!text.empty() && (text.back() == ' ' || text.back() == '\t')) text.remove_suffix(1);
-    return text;
-}
-
-}  // namespace
 
 LengthUnit parse_length_unit(std::string_view text) {
     text = trim(text);
@@ -72,6 +67,22 @@ double parse_length_um(std::string_view text) {
     if (unit == LengthUnit::texel)
         throw Error("'" + std::string(text) + "': a length here must be in um, nm, mm or m");
     return value * micrometres_per(unit);
+}
+
+BoxSides parse_box_sides(std::string_view text) {
+    const std::vector<std::string> parts = split(text, 'x');
+    if (parts.size() == 1) {
+        const double side = parse_length_um(text);
+        return {side, side};
+    }
+    if (parts.size() != 2)
+        throw Error("'" + std::string(text) + "' is not a box side LENGTH or sides WIDTHxHEIGHT (e.g. 70x53um)");
+    std::string width = parts[0];
+    const std::string& height = parts[1];
+    const std::size_t unit = height.find_last_of("0123456789.") + 1;
+    if (!width.empty() && (std::isdigit(static_cast<unsigned char>(width.back())) || width.back() == '.'))
+        width += height.substr(std::min(unit, height.size()));
+    return {parse_length_um(width), parse_length_um(height)};
 }
 
 std::string format_length(double micrometres) {

@@ -1,7 +1,6 @@
 #include "glintscope/query_keys.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -36,26 +35,13 @@ Point2 parse_length_pair(const std::string& text) {
     return {parse_length_um(parts[0]), parse_length_um(parts[1])};
 }
 
-// "70um" (a square) or "70x53um" (sides along x and y; a unit written once, after the second,
-// applies to both).
+// A square keeps size_y_um 0; a zero height would read as "square", so it is refused here.
 void set_box_sides(Footprint& footprint, const std::string& text) {
-    const std::vector<std::string> parts = split(text, 'x');
-    if (parts.size() == 1) {
-        footprint.size_um = parse_length_um(text);
-        footprint.size_y_um = 0.0;
-        return;
-    }
-    if (parts.size() != 2) throw Error("'" + text + "' is not a box side LENGTH or sides WIDTHxHEIGHT (e.g. 70x53um)");
-    std::string width(trim(parts[0]));
-    const std::string height(trim(parts[1]));
-    const std::size_t unit = height.find_last_of("0123456789.") + 1;
-    if (!width.empty() && (std::isdigit(static_cast<unsigned char>(width.back())) || width.back() == '.'))
-        width += height.substr(std::min(unit, height.size()));
-    footprint.size_um = parse_length_um(width);
-    footprint.size_y_um = parse_length_um(height);
-    // A zero height would read as "square" (Footprint::size_y_um), so it is refused here.
-    if (!(footprint.size_y_um > 0.0))
-        throw Error("box footprint sides must be between 0 and 100 mm, got " + shortest_text(footprint.size_y_um) + " um");
+    const BoxSides sides = parse_box_sides(text);
+    if (!(sides.height_um > 0.0))
+        throw Error("box footprint sides must be between 0 and 100 mm, got " + shortest_text(sides.height_um) + " um");
+    footprint.size_um = sides.width_um;
+    footprint.size_y_um = sides.height_um == sides.width_um ? 0.0 : sides.height_um;
 }
 
 std::vector<double> parse_pair(const std::string& text) {
