@@ -9,9 +9,8 @@
 #include "commands.hpp"
 #include "glintscope/atomic_output.hpp"
 #include "glintscope/colormap.hpp"
-#include "glintscope/error.hpp"
 #include "glintscope/figure.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/lobe.hpp"
 #include "glintscope/units.hpp"
 #include "glintscope/heightfield_io.hpp"
 #include "options.hpp"
@@ -37,15 +36,8 @@ std::optional<Footprint> footprint_of(const PreviewSettings& settings) {
     Footprint footprint;
     footprint.centre_um = {parse_length_um(settings.centre[0]), parse_length_um(settings.centre[1])};
     if (settings.sigma_c_um > 0.0) footprint.sigma_um = settings.sigma_c_um;
-    if (!settings.box.empty()) {
-        const BoxSides sides = parse_box_sides(settings.box);
-        for (const double side : {sides.width_um, sides.height_um})
-            if (!(side > 0.0 && side <= 1e5))
-                throw Error("--box: sides must be between 0 and 100 mm, got " + shortest_text(side) + " um");
-        footprint.shape = FootprintShape::box;
-        footprint.size_um = sides.width_um;
-        footprint.size_y_um = sides.height_um;
-    }
+    if (!settings.box.empty()) set_box(footprint, settings.box);
+    validate(footprint);
     return footprint;
 }
 

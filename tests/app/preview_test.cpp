@@ -100,8 +100,9 @@ TEST(PreviewCommand, FailuresLeaveNoFile) {
         {{"preview", input, "-o", directory.file("no/such/dir/out.png")}, "does not exist"},
         {{"preview", input, "-o", directory.file("out.png"), "--channel", "Q"}, "no channel 'Q'"},
         {{"preview", input, "-o", directory.file("out.png"), "--centre", "8,8", "--box", "7x0um"},
-         "--box: sides must be between 0 and 100 mm, got 0 um"},
+         "box footprint sides must be between 0 and 100 mm, got 0 um"},
         {{"preview", input, "-o", directory.file("out.png"), "--centre", "8,8", "--box", "7x5x3"}, "WIDTHxHEIGHT"},
+        {{"preview", input, "-o", directory.file("out.png"), "--centre", "1e9,8"}, "footprint centre must be finite"},
     };
     for (const auto& [arguments, message] : cases) {
         const auto result = run_cli(arguments);

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "glintscope/diffraction_model.hpp"
@@ -38,6 +39,14 @@ inline double box_width_um(const Footprint& footprint) { return footprint.size_u
 inline double box_height_um(const Footprint& footprint) {
     return footprint.size_y_um > 0.0 ? footprint.size_y_um : footprint.size_um;
 }
+
+// Makes the footprint a box of sides "70um" or "70x53um" (parse_box_sides); throws Error on a
+// zero side, which validate(Footprint) would otherwise read as a square.
+void set_box(Footprint& footprint, std::string_view sides);
+
+// Checks a footprint's centre, σ_c and box sides and throws Error naming the bad one (part of
+// validate(LobeQuery); also for commands that only draw a footprint).
+void validate(const Footprint& footprint);
 
 // A material's Fresnel reflectance F(λ, cos θ); empty name means F = 1.
 struct MaterialChoice {

@@ -6,6 +6,7 @@
 #include "glintscope/lobe.hpp"
 #include "glintscope/material.hpp"
 #include "glintscope/text_format.hpp"
+#include "glintscope/units.hpp"
 
 namespace glintscope {
 
@@ -13,6 +14,29 @@ void set_heightfield(LobeQuery& query, Heightfield field) {
     auto shared_field = std::make_shared<const Heightfield>(std::move(field));
     query.surface = std::make_shared<const BicubicInterpolant>(*shared_field);
     query.field = std::move(shared_field);
+}
+
+void set_box(Footprint& footprint, std::string_view text) {
+    const BoxSides sides = parse_box_sides(text);
+    if (!(sides.height_um > 0.0))
+        throw Error("box footprint sides must be between 0 and 100 mm, got " + shortest_text(sides.height_um) + " um");
+    footprint.shape = FootprintShape::box;
+    footprint.size_um = sides.width_um;
+    footprint.size_y_um = sides.height_um == sides.width_um ? 0.0 : sides.height_um;  // a square: 0
+}
+
+void validate(const Footprint& footprint) {
+    // 1 m: far beyond any heightfield, while kernel and sample indices stay exact in double.
+    constexpr double max_centre_um = 1e6;
+    if (!(std::fabs(footprint.centre_um.x) <= max_centre_um && std::fabs(footprint.centre_um.y) <= max_centre_um))
+        throw Error("footprint centre must be finite and within +-1e6 um (1 m), got (" +
+                    shortest_text(footprint.centre_um.x) + ", " + shortest_text(footprint.centre_um.y) + ") um");
+    if (footprint.shape == FootprintShape::gaussian && !(footprint.sigma_um > 0.0 && footprint.sigma_um <= 1e4))
+        throw Error("coherence sigma must be between 0 and 10 mm, got " + shortest_text(footprint.sigma_um) + " um");
+    if (footprint.shape == FootprintShape::box)
+        for (const double side : {footprint.size_um, box_height_um(footprint)})
+            if (!(side > 0.0 && side <= 1e5))
+                throw Error("box footprint sides must be between 0 and 100 mm, got " + shortest_text(side) + " um");
 }
 
 void validate(const LobeQuery& query) {
@@ -26,18 +50,7 @@ void validate(const LobeQuery& query) {
     for (double lambda : query.wavelengths_um)
         if (!(lambda >= 0.1 && lambda <= 20.0))
             throw Error("wavelength " + shortest_text(lambda) + " um is outside 0.1-20 um");
-    const Footprint& footprint = query.footprint;
-    // 1 m: far beyond any heightfield, while kernel and sample indices stay exact in double.
-    constexpr double max_centre_um = 1e6;
-    if (!(std::fabs(footprint.centre_um.x) <= max_centre_um && std::fabs(footprint.centre_um.y) <= max_centre_um))
-        throw Error("footprint centre must be finite and within +-1e6 um (1 m), got (" +
-                    shortest_text(footprint.centre_um.x) + ", " + shortest_text(footprint.centre_um.y) + ") um");
-    if (footprint.shape == FootprintShape::gaussian && !(footprint.sigma_um > 0.0 && footprint.sigma_um <= 1e4))
-        throw Error("coherence sigma must be between 0 and 10 mm, got " + shortest_text(footprint.sigma_um) + " um");
-    if (footprint.shape == FootprintShape::box)
-        for (const double side : {footprint.size_um, box_height_um(footprint)})
-            if (!(side > 0.0 && side <= 1e5))
-                throw Error("box footprint sides must be between 0 and 100 mm, got " + shortest_text(side) + " um");
+    validate(query.footprint);
     // The image alone holds N² floats per wavelength: refused here, before any method allocates.
     const auto image_gb = [&](double n) { return shortest_text(std::ceil(4.0 * n * n * query.wavelengths_um.size() / 1e8) / 10); };
     if (query.resolution < 4 || query.resolution > 8192)

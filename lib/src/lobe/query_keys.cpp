@@ -35,15 +35,6 @@ Point2 parse_length_pair(const std::string& text) {
     return {parse_length_um(parts[0]), parse_length_um(parts[1])};
 }
 
-// A square keeps size_y_um 0; a zero height would read as "square", so it is refused here.
-void set_box_sides(Footprint& footprint, const std::string& text) {
-    const BoxSides sides = parse_box_sides(text);
-    if (!(sides.height_um > 0.0))
-        throw Error("box footprint sides must be between 0 and 100 mm, got " + shortest_text(sides.height_um) + " um");
-    footprint.size_um = sides.width_um;
-    footprint.size_y_um = sides.height_um == sides.width_um ? 0.0 : sides.height_um;
-}
-
 std::vector<double> parse_pair(const std::string& text) {
     const std::vector<double> values = parse_number_list(text);
     if (values.size() != 2) throw Error("'" + text + "' is not two numbers A,B");
@@ -166,10 +157,7 @@ const std::vector<KeyBinding>& bindings() {
           "use a box footprint of this side (or these sides along x and y, e.g. 70x53um, Dong 2015's patches) "
           "instead of a Gaussian",
           ""},
-         [](LobeQuery& q, const std::string& t) {
-             q.footprint.shape = FootprintShape::box;
-             set_box_sides(q.footprint, t);
-         },
+         [](LobeQuery& q, const std::string& t) { set_box(q.footprint, t); },
          [](const LobeQuery& q) -> std::optional<std::string> {
              if (q.footprint.shape != FootprintShape::box) return std::nullopt;
              const double width = box_width_um(q.footprint), height = box_height_um(q.footprint);
