@@ -4,9 +4,9 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "glintscope/batch.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/batch/batch.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
 #include "progress.hpp"
 
 namespace glintscope::cli {

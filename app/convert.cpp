@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/heightfield_io.hpp"
-#include "glintscope/prepare.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/io/heightfield_io.hpp"
+#include "glintscope/prepare/prepare.hpp"
+#include "glintscope/core/units.hpp"
 #include "options.hpp"
 
 namespace glintscope::cli {

@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "glintscope/atomic_output.hpp"
-#include "glintscope/lobe_output.hpp"
-#include "glintscope/ndf_fit.hpp"
+#include "glintscope/core/atomic_output.hpp"
+#include "glintscope/output/lobe_output.hpp"
+#include "glintscope/fit/ndf_fit.hpp"
 
 namespace glintscope::cli {
 namespace {

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/heightfield_io.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/io/heightfield_io.hpp"
+#include "glintscope/core/units.hpp"
 #include "options.hpp"
 
 namespace glintscope::cli {

@@ -8,11 +8,11 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "glintscope/atomic_output.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/glint_map.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/core/atomic_output.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/maps/glint_map.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/core/units.hpp"
 #include "options.hpp"
 #include "progress.hpp"
 #include "query_flags.hpp"

@@ -9,14 +9,15 @@
 #include <cstdio>
 #include <map>
 
-#include "glintscope/atomic_output.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/lobe_output.hpp"
-#include "glintscope/query_keys.hpp"
-#include "glintscope/slice.hpp"
-#include "glintscope/spectrum.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/atomic_output.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/output/lobe_output.hpp"
+#include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/lobe/slice.hpp"
+#include "glintscope/optics/spectrum.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope::cli {
 
@@ -35,7 +36,6 @@ struct ImageCommandSettings {
     bool spectral_channels = false;
     bool bare = false;
     std::string exposure_from;
-    std::string footprints;
     std::vector<std::string> slices;
     std::string ocio_config;
     std::string colour_space = "lin_rec709";
@@ -47,9 +47,6 @@ void add_output_flags(CLI::App& command, ImageCommandSettings& settings) {
     command.add_option("-o,--output", settings.output, "Output EXR (scene-linear float; the query in its header)")
         ->required();
     command.add_option("--png", settings.png, "Also write a display PNG");
-    command.add_option("--footprints", settings.footprints,
-                       "Average over footprints: N seeded random centres, grid (3 x 3) or grid:N (large-area NDFs, "
-                       "expected lobes)");
     command.add_option("--slice", settings.slices,
                        "Also write OUT-slice-DIR.csv: a 1-D slice through the centre along x, y or an angle in degrees "
                        "(repeatable; Dong 2015 Fig. 9)")
@@ -118,11 +115,9 @@ QueryText query_text_of(const ImageCommandSettings& settings, const std::string&
     return merge_query_text(query_text_from_metadata(recorded), given);
 }
 
-void print_summary(const LobeImage& image, const std::string& method, const LobeQuery& query) {
+void print_summary(const LobeImage& image, const std::string& method, DiffractionModel model) {
     const QuantityLabels& label = labels(image.quantity);
-    const std::vector<QueryField>& ignored = lobe_method(method).ignored;
-    const bool uses_model = std::find(ignored.begin(), ignored.end(), QueryField::model) == ignored.end();
-    const std::string who = method + (uses_model ? " " + to_string(query.model) : "");
+    const std::string who = method + (lobe_method(method).ignores(QueryField::model) ? "" : " " + to_string(model));
     for (const WavelengthSummary& summary : summarize_lobe(image)) {
         const std::string at = image.quantity == Quantity::brdf ? "lambda " + shortest_text(summary.wavelength_um) + " um: " : "";
         std::printf("%s, %speak %s = %.6g%s at %s = (%.4f, %.4f), %s %.6g\n", who.c_str(), at.c_str(),
@@ -131,20 +126,6 @@ void print_summary(const LobeImage& image, const std::string& method, const Lobe
                     summary.disk_sum);
         if (image.quantity == Quantity::ndf) break;  // every layer of an NDF is the same
     }
-}
-
-bool has_key(const QueryText& text, const std::string& key) {
-    return std::any_of(text.begin(), text.end(), [&](const auto& entry) { return entry.first == key; });
-}
-
-// A wave lobe whose coherence blur is below a pixel would be point-sampled, with a wrong albedo
-// and peak: unless the user chose the supersampling, choose enough and say so.
-bool supersample_if_point_sampled(const QueryText& text, const std::string& method, LobeQuery& query) {
-    if (has_key(text, "supersample")) return false;
-    const int supersample = recommended_supersample(method, query);
-    if (supersample <= 1) return false;
-    query.supersample = supersample;
-    return true;
 }
 
 // --verbose: what the method and the picture chose on their own.
@@ -161,21 +142,17 @@ void run(const ImageCommandSettings& settings, const std::string& heightfield, s
     const QueryText text = query_text_of(settings, heightfield, method);
     if (method.empty()) method = default_method;
     lobe_method(method);  // an unknown method fails before the heightfield is loaded
-    LobeQuery query = make_query(text);
-    validate(query);
-    const bool supersampled = supersample_if_point_sampled(text, method, query);
-    LobeImage image = compute_lobe(method, query);
+    const LobeQuery query = make_query(text);
+    LobeRun run;
+    {
+        ProgressBar progress("footprints");
+        run = run_lobe(method, query, [&](std::size_t done, std::size_t total) { progress.update(done, total, ""); });
+    }
+    LobeImage& image = run.image;
     // Said after the computation, so that bad input fails with its one line and nothing else.
-    if (supersampled)
-        std::fprintf(stderr,
-                     "glintscope: note: supersampled %dx%d, because the coherence blur lambda/(2 pi sigma_c) is below "
-                     "a pixel (--supersample 1 point-samples)\n",
-                     query.supersample, query.supersample);
-    for (const std::string& warning : query_warnings(method, query))
-        std::fprintf(stderr, "glintscope: warning: %s\n", warning.c_str());
+    for (const std::string& note : run.notes) std::fprintf(stderr, "glintscope: note: %s\n", note.c_str());
+    for (const std::string& warning : run.warnings) std::fprintf(stderr, "glintscope: warning: %s\n", warning.c_str());
     image.metadata["command_line"] = invocation();
-    for (const std::string& warning : image_warnings(image))
-        std::fprintf(stderr, "glintscope: warning: %s\n", warning.c_str());
     write_lobe_exr(image, settings.output, options);
     DisplayExposure exposure = display_exposure(image, options.colour);
     if (!settings.png.empty()) exposure = write_lobe_png(image, settings.png, options);
@@ -183,7 +160,7 @@ void run(const ImageCommandSettings& settings, const std::string& heightfield, s
     for (const std::string& direction : settings.slices)
         write_text_file(slice_path(settings, direction), slice_csv(image, image_slice(image, parse_slice_direction(direction), 2 * image.resolution)));
     if (verbosity().verbose) explain_choices(image, method, exposure);
-    print_summary(image, method, query);
+    print_summary(image, method, query.model);
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "glintscope/image.hpp"
+#include "glintscope/lobe/image.hpp"
 
 namespace glintscope::cli {
 

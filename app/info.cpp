@@ -4,10 +4,10 @@
 #include <string>
 
 #include "commands.hpp"
-#include "glintscope/heightfield_io.hpp"
-#include "glintscope/statistics.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/io/heightfield_io.hpp"
+#include "glintscope/surface/statistics.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/core/units.hpp"
 #include "options.hpp"
 
 namespace glintscope::cli {

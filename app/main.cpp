@@ -11,9 +11,9 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/version.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/core/version.hpp"
 
 namespace {
 

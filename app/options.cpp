@@ -1,8 +1,8 @@
 #include "options.hpp"
 
-#include "glintscope/error.hpp"
-#include "glintscope/query_keys.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/core/units.hpp"
 
 namespace glintscope::cli {
 

@@ -4,7 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 
 namespace glintscope::cli {
 

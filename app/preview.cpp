@@ -7,12 +7,12 @@
 #include <string>
 
 #include "commands.hpp"
-#include "glintscope/atomic_output.hpp"
-#include "glintscope/colormap.hpp"
-#include "glintscope/figure.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/units.hpp"
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/core/atomic_output.hpp"
+#include "glintscope/output/colormap.hpp"
+#include "glintscope/output/figure.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/core/units.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 #include "options.hpp"
 
 namespace glintscope::cli {

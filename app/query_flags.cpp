@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <map>
 
-#include "glintscope/error.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/validate.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope::cli {
 
@@ -56,16 +56,6 @@ void add_method_option_flags(CLI::App& command, QueryText& given, Quantity quant
             },
             "Method option KEY=VALUE (repeatable)")
         ->type_name("KEY=VALUE");
-}
-
-std::vector<Point2> parse_footprints(const std::string& text, const LobeQuery& query) {
-    const bool grid = text.starts_with("grid");
-    const std::string count = grid ? (text.size() > 5 && text[4] == ':' ? text.substr(5) : "9") : text;
-    try {
-        return footprint_centres(*query.field, query.footprint, static_cast<int>(parse_integer(count, 1, 100000)), grid);
-    } catch (const Error& e) {
-        throw Error("--footprints must be N, grid or grid:N: " + std::string(e.what()));
-    }
 }
 
 }  // namespace glintscope::cli

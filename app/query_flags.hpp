@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "glintscope/image.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/query_keys.hpp"
+#include "glintscope/lobe/image.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/lobe/query_keys.hpp"
 
 namespace glintscope::cli {
 
@@ -21,9 +21,5 @@ void add_query_flags(CLI::App& command, QueryText& given, Quantity quantity, con
 // One flag per method option key of the methods answering `quantity` (help names the methods
 // that read it), and --option KEY=VALUE; each appends ("option.KEY", value) to `given`.
 void add_method_option_flags(CLI::App& command, QueryText& given, Quantity quantity);
-
-// Footprint centres from "N" (seeded random), "grid" (3 × 3) or "grid:N" (⌈√N⌉² on a grid),
-// over the query's heightfield (validate.hpp footprint_centres).
-std::vector<Point2> parse_footprints(const std::string& text, const LobeQuery& query);
 
 }  // namespace glintscope::cli

@@ -6,12 +6,13 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "glintscope/atomic_output.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/figure.hpp"
-#include "glintscope/query_keys.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/validate.hpp"
+#include "glintscope/core/atomic_output.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/output/figure.hpp"
+#include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/validate/validate.hpp"
 #include "progress.hpp"
 #include "query_flags.hpp"
 
@@ -21,7 +22,6 @@ namespace {
 struct ValidateSettings {
     std::string heightfield;
     QueryText given;
-    std::string footprints = "1";
     std::string models;
     std::string kernels_per_texel;
     std::string test_method = "gabor";
@@ -42,7 +42,6 @@ ValidationPlan plan_of(const ValidateSettings& settings) {
     plan.reference_method = settings.reference_method;
     lobe_method(plan.test_method);
     lobe_method(plan.reference_method);
-    if (settings.footprints != "1") plan.centres = parse_footprints(settings.footprints, plan.base);
     if (!settings.models.empty())
         for (const std::string& name : split(settings.models, ',')) plan.models.push_back(parse_diffraction_model(name));
     if (!settings.kernels_per_texel.empty())
@@ -136,9 +135,11 @@ void add_validate_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "validate", "Compare a method (default gabor) with a reference (default fft) on the same queries");
     command->add_option("heightfield", settings->heightfield, "Heightfield file, or builtin:KIND")->required();
-    add_query_flags(*command, settings->given, Quantity::brdf, {"quantity", "model"});
-    command->add_option("--footprints", settings->footprints,
-                        "Footprint centres: N seeded random ones, grid (3 x 3) or grid:N (default: the query's centre)");
+    add_query_flags(*command, settings->given, Quantity::brdf, {"quantity", "model", "footprints"});
+    command->add_option_function<std::string>(
+        "--footprints", [settings](const std::string& value) { settings->given.emplace_back("footprints", value); },
+        "Footprints, a row each: N seeded random centres, grid (3 x 3) or grid:N (N x N) (default: the query's centre)")
+        ->type_name("N|grid|grid:N");
     command->add_option("--models", settings->models, "Diffraction models, comma-separated (default rohs)")
         ->type_name("LIST");
     command->add_option("--kernels-per-texel", settings->kernels_per_texel,

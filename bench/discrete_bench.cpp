@@ -5,7 +5,8 @@
 
 #include <string>
 
-#include "glintscope/lobe.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 
 namespace {
 

@@ -5,7 +5,8 @@
 #include <vector>
 
 #include "methods/fft/fft_lobe.hpp"
-#include "glintscope/generate.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 
 namespace {
 

@@ -2,8 +2,9 @@
 // from the moments' start to 1e-9), and the exact P-NDF of a 32 µm patch of a brushed field.
 #include <benchmark/benchmark.h>
 
-#include "glintscope/generate.hpp"
-#include "glintscope/ndf_fit.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/fit/ndf_fit.hpp"
 
 namespace {
 

@@ -9,7 +9,8 @@
 #include <vector>
 
 #include "methods/gabor/gabor.hpp"
-#include "glintscope/generate.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 
 namespace {
 

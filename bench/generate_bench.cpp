@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <string>
 
-#include "glintscope/generate.hpp"
-#include "glintscope/heightfield_io.hpp"
-#include "glintscope/statistics.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/io/heightfield_io.hpp"
+#include "glintscope/surface/statistics.hpp"
 
 namespace {
 

@@ -2,8 +2,9 @@
 // Fig. 8 (1024² builtin at 1 µm; 8192² from heightfields/isotropic.recipe for the whole-field NDF).
 #include <benchmark/benchmark.h>
 
-#include "glintscope/generate.hpp"
-#include "glintscope/lobe.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/lobe/query.hpp"
 
 namespace {
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "glintscope/interpolant.hpp"
+#include "glintscope/surface/interpolant.hpp"
 
 namespace {
 

@@ -4,9 +4,10 @@
 
 #include <filesystem>
 
-#include "glintscope/generate.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/lobe_output.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/output/lobe_output.hpp"
 
 namespace {
 

@@ -2,7 +2,7 @@
 // ~50 series terms per direction), R-OHS, σ_c = 10 µm, normal incidence, one wavelength, 256².
 #include <benchmark/benchmark.h>
 
-#include "glintscope/generate.hpp"
+#include "glintscope/generate/generate.hpp"
 #include "methods/stam/stam_lobe.hpp"
 
 namespace {

@@ -4,8 +4,8 @@
 #include <string>
 
 #include "fuzz_target.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static const std::array<std::string, 5> extensions = {".npy", ".x3p", ".exr", ".png", ".tif"};

@@ -3,8 +3,8 @@
 #include <string>
 
 #include "fuzz_target.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/generate.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/generate/generate.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     try {

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "cli_runner.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 
 namespace glintscope {
 namespace {

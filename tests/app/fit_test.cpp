@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
-#include "glintscope/lobe_output.hpp"
-#include "glintscope/ndf_fit.hpp"
+#include "glintscope/output/lobe_output.hpp"
+#include "glintscope/fit/ndf_fit.hpp"
 
 namespace glintscope {
 namespace {

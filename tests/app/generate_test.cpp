@@ -6,8 +6,8 @@
 #include <fstream>
 
 #include "cli_runner.hpp"
-#include "glintscope/heightfield_io.hpp"
-#include "glintscope/statistics.hpp"
+#include "glintscope/io/heightfield_io.hpp"
+#include "glintscope/surface/statistics.hpp"
 
 namespace glintscope {
 namespace {

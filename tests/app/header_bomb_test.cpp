@@ -17,8 +17,8 @@
 
 #include "cli_runner.hpp"
 #include "zip_files.hpp"
-#include "glintscope/heightfield.hpp"
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/surface/heightfield.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 
 namespace glintscope::testing {
 namespace {

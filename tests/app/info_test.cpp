@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cli_runner.hpp"
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 
 namespace glintscope {
 namespace {

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "cli_runner.hpp"
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 
 namespace glintscope {
 namespace {

@@ -13,8 +13,8 @@
 #include <OpenImageIO/imageio.h>
 
 #include "cli_runner.hpp"
-#include "glintscope/colormap.hpp"
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/output/colormap.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 
 namespace glintscope {
 namespace {

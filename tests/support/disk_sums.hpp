@@ -2,8 +2,8 @@
 // Sums over a projected-disk image that several method tests assert on.
 #include <cstddef>
 
-#include "glintscope/geometry.hpp"
-#include "glintscope/image.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/lobe/image.hpp"
 
 namespace glintscope::testing {
 

@@ -10,12 +10,13 @@
 #include <nlohmann/json.hpp>
 
 #include "core/md5.hpp"
-#include "glintscope/atomic_output.hpp"
-#include "glintscope/batch.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/lobe_output.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/version.hpp"
+#include "glintscope/core/atomic_output.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/batch/batch.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/output/lobe_output.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/core/version.hpp"
 
 namespace glintscope {
 namespace {

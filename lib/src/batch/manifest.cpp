@@ -3,10 +3,11 @@
 
 #include <toml++/toml.h>
 
-#include "glintscope/batch.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/batch/batch.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {

@@ -1,4 +1,4 @@
-#include "glintscope/atomic_output.hpp"
+#include "glintscope/core/atomic_output.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -13,8 +13,8 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
-#include "glintscope/error.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <charconv>
 
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 namespace {

@@ -1,4 +1,4 @@
-#include "glintscope/geometry.hpp"
+#include "glintscope/core/geometry.hpp"
 
 #include <algorithm>
 

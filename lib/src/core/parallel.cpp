@@ -1,4 +1,4 @@
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/parallel.hpp"
 
 #include <algorithm>
 #include <atomic>

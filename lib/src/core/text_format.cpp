@@ -1,11 +1,11 @@
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/text_format.hpp"
 
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 

@@ -1,5 +1,5 @@
-#include "glintscope/geometry.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/core/units.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "glintscope/error.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 

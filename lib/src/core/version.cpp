@@ -1,4 +1,4 @@
-#include "glintscope/version.hpp"
+#include "glintscope/core/version.hpp"
 
 namespace glintscope {
 

@@ -3,7 +3,7 @@
 // evaluate D at many normals without repeating the trigonometry.
 #include <array>
 
-#include "glintscope/ndf_models.hpp"
+#include "glintscope/fit/ndf_models.hpp"
 
 namespace glintscope {
 

@@ -1,7 +1,7 @@
 // Least-squares fits of parametric NDFs to NDF images (ndf_fit.hpp), with NLopt's BOBYQA
 // (Powell 2009): a bound-constrained quadratic-model method that needs no derivatives, which
 // suits five smooth parameters and an objective summed over tens of thousands of pixels.
-#include "glintscope/ndf_fit.hpp"
+#include "glintscope/fit/ndf_fit.hpp"
 
 #include <nlopt.h>
 
@@ -13,8 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "fit/ellipsoid_frame.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 namespace {

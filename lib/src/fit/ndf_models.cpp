@@ -1,4 +1,4 @@
-#include "glintscope/ndf_models.hpp"
+#include "glintscope/fit/ndf_models.hpp"
 
 #include "fit/ellipsoid_frame.hpp"
 

@@ -13,7 +13,7 @@
 
 #include "core/counter_rng.hpp"
 #include "generators.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 namespace {

@@ -6,11 +6,11 @@
 #include <numbers>
 #include <vector>
 
-#include "surface/correlation_spectrum.hpp"
+#include "generate/correlation_spectrum.hpp"
 #include "core/counter_rng.hpp"
 #include "numerics/fftw_plans.hpp"
 #include "generators.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 namespace {

@@ -2,7 +2,7 @@
 #include <algorithm>
 
 #include "generators.hpp"
-#include "glintscope/generate.hpp"
+#include "glintscope/generate/generate.hpp"
 
 namespace glintscope {
 namespace {

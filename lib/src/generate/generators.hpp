@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "glintscope/generate.hpp"
+#include "glintscope/generate/generate.hpp"
 
 namespace glintscope {
 

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "generators.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 

@@ -10,11 +10,11 @@
 #include <set>
 #include <sstream>
 
-#include "glintscope/geometry.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/core/units.hpp"
 
 namespace glintscope {
 namespace {

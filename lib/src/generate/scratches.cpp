@@ -11,8 +11,8 @@
 
 #include "core/counter_rng.hpp"
 #include "generators.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 namespace {

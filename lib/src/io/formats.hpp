@@ -10,10 +10,10 @@
 #include <optional>
 #include <string>
 
-#include "glintscope/error.hpp"
-#include "glintscope/heightfield.hpp"
-#include "glintscope/heightfield_io.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/surface/heightfield.hpp"
+#include "glintscope/io/heightfield_io.hpp"
+#include "glintscope/core/units.hpp"
 
 namespace glintscope {
 

@@ -1,13 +1,13 @@
 // Format dispatch, unit resolution and the checks every reader shares.
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 
 #include <cmath>
 #include <filesystem>
 #include <system_error>
 
 #include "formats.hpp"
-#include "glintscope/atomic_output.hpp"
-#include "glintscope/error.hpp"
+#include "glintscope/core/atomic_output.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 namespace {

@@ -26,7 +26,7 @@
 #include <unistd.h>
 
 #include "formats.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {

@@ -43,7 +43,7 @@
 
 #include "formats.hpp"
 #include "core/md5.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {

@@ -1,10 +1,10 @@
-#include "glintscope/compare.hpp"
+#include "glintscope/lobe/compare.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "glintscope/error.hpp"
-#include "glintscope/geometry.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/geometry.hpp"
 
 namespace glintscope {
 namespace {

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <string>
 
-#include "glintscope/error.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {
@@ -18,12 +18,6 @@ std::string um(double length) { return shortest_text(std::round(length * 1e4) / 
 std::string centre_range(double reach, double extent) { return um(reach) + " to " + um(extent - reach); }
 
 }  // namespace
-
-Point2 footprint_support_um(const Footprint& footprint) {
-    if (footprint.shape == FootprintShape::box) return {0.5 * box_width_um(footprint), 0.5 * box_height_um(footprint)};
-    // The Gaussian's 3.25σ_c truncation of the wave methods (weight e^{−5.3}, |w|² e^{−10.6}).
-    return {3.25 * footprint.sigma_um, 3.25 * footprint.sigma_um};
-}
 
 void check_footprint_inside(const LobeQuery& query) {
     const Heightfield& field = *query.field;

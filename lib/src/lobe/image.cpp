@@ -1,10 +1,10 @@
-#include "glintscope/image.hpp"
+#include "glintscope/lobe/image.hpp"
 
 #include <algorithm>
 
-#include "glintscope/error.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 

@@ -1,4 +1,4 @@
-#include "glintscope/query_keys.hpp"
+#include "glintscope/lobe/query_keys.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,11 +12,11 @@
 #include <nlohmann/json.hpp>
 
 #include "core/md5.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/spectrum.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/optics/spectrum.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/core/units.hpp"
 
 namespace glintscope {
 namespace {
@@ -191,9 +191,21 @@ const std::vector<KeyBinding>& bindings() {
         {{"res", "N", "image resolution N (N x N) (default 256)", ""},
          [](LobeQuery& q, const std::string& t) { q.resolution = parse_int(t); },
          [](const LobeQuery& q) { return std::to_string(q.resolution); }},
-        {{"supersample", "K", "K x K sub-pixel average (default 1)", ""},
-         [](LobeQuery& q, const std::string& t) { q.supersample = parse_int(t); },
-         [](const LobeQuery& q) { return std::to_string(q.supersample); }},
+        {{"supersample", "K|auto",
+          "K x K sub-pixel average (default auto: enough that a wave lobe's coherence blur spans 1.5 sub-pixels; "
+          "1 for geometric methods)",
+          ""},
+         [](LobeQuery& q, const std::string& t) { q.supersample = t == "auto" ? 0 : parse_int(t); },
+         [](const LobeQuery& q) { return q.supersample == 0 ? std::string("auto") : std::to_string(q.supersample); }},
+        {{"footprints", "N|grid|grid:N",
+          "average over footprints: N seeded random centres, grid (3 x 3) or grid:N (N x N) spread over the field "
+          "(large-area NDFs, expected lobes; default 1: the footprint alone)",
+          ""},
+         [](LobeQuery& q, const std::string& t) { q.footprints = parse_footprint_set(t); },
+         [](const LobeQuery& q) -> std::optional<std::string> {
+             if (q.footprints.single()) return std::nullopt;
+             return to_string(q.footprints);
+         }},
     };
     return table;
 }

@@ -1,11 +1,11 @@
-#include "glintscope/slice.hpp"
+#include "glintscope/lobe/slice.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "glintscope/error.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {

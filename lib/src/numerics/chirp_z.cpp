@@ -5,7 +5,7 @@
 #include <memory>
 #include <mutex>
 
-#include "glintscope/geometry.hpp"
+#include "glintscope/core/geometry.hpp"
 
 namespace glintscope {
 namespace {

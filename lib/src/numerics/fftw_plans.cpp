@@ -3,7 +3,7 @@
 #include <array>
 #include <new>
 
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 

@@ -1,8 +1,8 @@
-#include "glintscope/diffraction_model.hpp"
+#include "glintscope/optics/diffraction_model.hpp"
 
 #include <cmath>
 
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 

@@ -1,4 +1,4 @@
-#include "glintscope/material.hpp"
+#include "glintscope/optics/material.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "core/embedded_data.hpp"
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 namespace {

@@ -1,4 +1,4 @@
-#include "glintscope/spectrum.hpp"
+#include "glintscope/optics/spectrum.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "core/embedded_data.hpp"
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 namespace {

@@ -1,5 +1,5 @@
 // Colour maps and colour-mapped PNG pictures with a legend.
-#include "glintscope/colormap.hpp"
+#include "glintscope/output/colormap.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,9 +10,9 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
-#include "glintscope/atomic_output.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/atomic_output.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 namespace {

@@ -1,4 +1,4 @@
-#include "glintscope/colour.hpp"
+#include "glintscope/output/colour.hpp"
 
 #include <algorithm>
 #include <array>
@@ -11,10 +11,10 @@
 #include <OpenColorIO/OpenColorIO.h>
 
 #include "core/embedded_data.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace OCIO = OCIO_NAMESPACE;
 

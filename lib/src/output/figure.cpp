@@ -1,4 +1,4 @@
-#include "glintscope/figure.hpp"
+#include "glintscope/output/figure.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,11 +8,11 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
-#include "glintscope/atomic_output.hpp"
-#include "glintscope/colormap.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/atomic_output.hpp"
+#include "glintscope/output/colormap.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {

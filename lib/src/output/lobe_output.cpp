@@ -1,5 +1,5 @@
-#include "glintscope/geometry.hpp"
-#include "glintscope/lobe_output.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/output/lobe_output.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -12,11 +12,11 @@
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
-#include "glintscope/atomic_output.hpp"
-#include "glintscope/colormap.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/figure.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/atomic_output.hpp"
+#include "glintscope/output/colormap.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/output/figure.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {

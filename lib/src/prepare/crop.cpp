@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "glintscope/error.hpp"
-#include "glintscope/prepare.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/prepare/prepare.hpp"
+#include "glintscope/core/units.hpp"
 
 namespace glintscope {
 namespace {

@@ -29,9 +29,9 @@
 #include <optional>
 #include <vector>
 
-#include "glintscope/error.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/prepare.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/prepare/prepare.hpp"
 
 namespace glintscope {
 namespace {

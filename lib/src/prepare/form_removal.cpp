@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "glintscope/error.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/prepare.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/prepare/prepare.hpp"
 
 namespace glintscope {
 namespace {

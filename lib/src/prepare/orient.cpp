@@ -5,8 +5,8 @@
 #include <string>
 #include <utility>
 
-#include "glintscope/error.hpp"
-#include "glintscope/prepare.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/prepare/prepare.hpp"
 
 namespace glintscope {
 namespace {

@@ -1,7 +1,7 @@
 // The record of preparation steps kept in a heightfield's provenance.
 #include <string>
 
-#include "glintscope/prepare.hpp"
+#include "glintscope/prepare/prepare.hpp"
 
 namespace glintscope {
 

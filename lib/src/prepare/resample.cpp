@@ -19,12 +19,12 @@
 #include <string>
 #include <vector>
 
-#include "glintscope/error.hpp"
-#include "glintscope/interpolant.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/prepare.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/units.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/surface/interpolant.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/prepare/prepare.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/core/units.hpp"
 
 namespace glintscope {
 namespace {

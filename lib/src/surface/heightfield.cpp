@@ -1,11 +1,11 @@
-#include "glintscope/heightfield.hpp"
+#include "glintscope/surface/heightfield.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "glintscope/error.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 

@@ -1,9 +1,9 @@
-#include "glintscope/interpolant.hpp"
+#include "glintscope/surface/interpolant.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 namespace {

@@ -1,4 +1,4 @@
-#include "glintscope/statistics.hpp"
+#include "glintscope/surface/statistics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "numerics/fftw_plans.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 namespace {

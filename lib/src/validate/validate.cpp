@@ -1,15 +1,15 @@
-#include "glintscope/validate.hpp"
+#include "glintscope/validate/validate.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <random>
 
 #include <nlohmann/json.hpp>
 
-#include "glintscope/error.hpp"
-#include "glintscope/query_keys.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {
@@ -31,33 +31,21 @@ std::string describe_case(const Point2& centre, DiffractionModel model, int kern
            (kernels ? ", K = " + std::to_string(kernels) : "");
 }
 
-}  // namespace
-
-std::vector<Point2> footprint_centres(const Heightfield& field, const Footprint& footprint, int count, bool grid,
-                                      unsigned seed) {
-    if (count < 1 || count > 100000) throw Error("the number of footprints must be 1 to 100000, got " + std::to_string(count));
-    const Point2 reach = footprint_support_um(footprint);
-    const auto span = [&](double size, double reach_um) {  // [lo, hi] of allowed centres along one axis
-        return size > 2.0 * reach_um ? std::pair{reach_um, size - reach_um} : std::pair{0.0, size};
-    };
-    const auto [x0, x1] = span(field.width_um(), reach.x);
-    const auto [y0, y1] = span(field.height_um(), reach.y);
-    std::vector<Point2> centres;
-    if (grid) {
-        const int side = static_cast<int>(std::ceil(std::sqrt(double(count))));
-        for (int j = 0; j < side; ++j)
-            for (int i = 0; i < side; ++i)
-                centres.push_back({x0 + (i + 0.5) / side * (x1 - x0), y0 + (j + 0.5) / side * (y1 - y0)});
-        return centres;
-    }
-    std::mt19937_64 random(seed);  // the same seed gives the same centres on every platform
-    const auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * (double(random() >> 11) * 0x1.0p-53); };
-    for (int k = 0; k < count; ++k) {
-        const double x = uniform(x0, x1);
-        centres.push_back({x, uniform(y0, y1)});
-    }
-    return centres;
+std::vector<Point2> validation_centres(const ValidationPlan& plan) {
+    return footprint_centres(*plan.base.field, plan.base.footprint, plan.base.footprints);
 }
+
+// The base query at one of its footprints, with the supersampling the reference method's plan
+// chooses, so that test and reference sample their pixels alike.
+LobeQuery single_footprint(const ValidationPlan& plan, Point2 centre) {
+    LobeQuery query = plan.base;
+    query.footprints = {};
+    query.footprint.centre_um = centre;
+    if (query.supersample == 0) query.supersample = plan_lobe(plan.reference_method, query).query.supersample;
+    return query;
+}
+
+}  // namespace
 
 LobeImage difference_image(const LobeImage& test, const LobeImage& reference) {
     compare_lobes(test, reference);  // checks that they are comparable
@@ -74,14 +62,13 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
                                           const PairCallback& pair) {
     const std::vector<DiffractionModel> models = plan.models.empty() ? std::vector{plan.base.model} : plan.models;
     const std::vector<int> densities = plan.kernels_per_texel.empty() ? std::vector{0} : plan.kernels_per_texel;
-    const std::vector<Point2> centres = plan.centres.empty() ? std::vector{plan.base.footprint.centre_um} : plan.centres;
+    const std::vector<Point2> centres = validation_centres(plan);
     const std::size_t total = centres.size() * models.size() * (densities.size() + 1);
     std::size_t done = 0;
     std::vector<ValidationRow> rows;
     for (const Point2& centre : centres)
         for (DiffractionModel model : models) {
-            LobeQuery query = plan.base;
-            query.footprint.centre_um = centre;
+            LobeQuery query = single_footprint(plan, centre);
             query.model = model;
             const Timed reference = timed_compute(plan.reference_method, query);
             if (progress) progress(++done, total, plan.reference_method + ", " + describe_case(centre, model, 0));
@@ -100,8 +87,7 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
 }
 
 std::vector<ConvergencePoint> run_convergence(const ValidationPlan& plan, const ProgressCallback& progress) {
-    LobeQuery query = plan.base;
-    if (!plan.centres.empty()) query.footprint.centre_um = plan.centres.front();
+    LobeQuery query = single_footprint(plan, validation_centres(plan).front());
     if (!plan.models.empty()) query.model = plan.models.front();
     query.wavelengths_um = {query.wavelengths_um.front()};
     query.method_options.clear();

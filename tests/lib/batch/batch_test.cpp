@@ -10,9 +10,9 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include "cli_runner.hpp"
-#include "glintscope/batch.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/batch/batch.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 
 namespace glintscope {
 namespace {

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <string>
 
-#include "glintscope/atomic_output.hpp"
+#include "glintscope/core/atomic_output.hpp"
 
 namespace glintscope {
 namespace {

@@ -4,10 +4,11 @@
 
 #include <cmath>
 
-#include "glintscope/compare.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/lobe_output.hpp"
+#include "glintscope/lobe/compare.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/output/lobe_output.hpp"
 
 namespace glintscope {
 namespace {

@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 namespace {

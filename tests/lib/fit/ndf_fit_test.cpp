@@ -6,28 +6,21 @@
 #include <cmath>
 
 #include "cli_runner.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/ndf_fit.hpp"
-#include "glintscope/parallel.hpp"
+#include "ellipsoid_expect.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/fit/ndf_fit.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 namespace {
-
-void expect_within_percent(const EllipsoidNdf& fitted, const EllipsoidNdf& truth) {
-    EXPECT_NEAR(fitted.alpha_x, truth.alpha_x, 0.01 * truth.alpha_x);
-    EXPECT_NEAR(fitted.alpha_y, truth.alpha_y, 0.01 * truth.alpha_y);
-    // Angles: 1% of the angle, and 1e-6 rad where the angle is 0.
-    EXPECT_NEAR(fitted.theta_x, truth.theta_x, 0.01 * std::abs(truth.theta_x) + 1e-6);
-    EXPECT_NEAR(fitted.theta_y, truth.theta_y, 0.01 * std::abs(truth.theta_y) + 1e-6);
-    EXPECT_NEAR(fitted.theta_z, truth.theta_z, 0.01 * std::abs(truth.theta_z) + 1e-6);
-}
 
 class EllipsoidRecovery : public ::testing::TestWithParam<EllipsoidNdf> {};
 
 TEST_P(EllipsoidRecovery, FitRecoversTheParametersWithinOnePercent) {
     const EllipsoidNdf truth = GetParam();
     const NdfFit fit = fit_ndf(model_ndf_image({NdfModelKind::ellipsoid, truth}, 128), NdfModelKind::ellipsoid);
-    expect_within_percent(fit.model.parameters, truth);
+    testing::expect_within_percent(fit.model.parameters, truth);
     EXPECT_LT(fit.relative_error, 1e-3);
 }
 
@@ -96,46 +89,6 @@ TEST(NdfFit, BeckmannFitsTheWholeGaussianBrushedFieldBest) {
     EXPECT_LE(ellipsoid.relative_error, fit_ndf(ndf, NdfModelKind::ggx).relative_error);
     // Its α follow the slopes: rms slope across the grooves √2 σ_h/T_y = 0.106, i.e. α_y = 0.15.
     EXPECT_NEAR(beckmann.model.parameters.alpha_y, 0.15, 0.01);
-}
-
-TEST(EllipsoidMaps, PerPatchFitsRecoverEachPatchAndRoundTripThroughExr) {
-    const auto truth = [](int row, int col) {
-        return EllipsoidNdf{0.2 + 0.1 * col, 0.08 + 0.02 * row, 0.05 * (row + 1), -0.04 * (col + 1), 0.3 * (col - row)};
-    };
-    const EllipsoidMaps maps = fit_ellipsoid_maps(2, 3, [&](int row, int col) {
-        return model_ndf_image({NdfModelKind::ellipsoid, truth(row, col)}, 64);
-    });
-    ASSERT_EQ(maps.parameters.size(), 6u);
-    for (int row = 0; row < 2; ++row)
-        for (int col = 0; col < 3; ++col) expect_within_percent(maps.parameters[row * 3 + col], truth(row, col));
-
-    testing::TemporaryDirectory directory;
-    const std::string path = directory.file("maps.exr");
-    write_ellipsoid_maps_exr(maps, path);
-    auto input = OIIO::ImageInput::open(path);
-    ASSERT_TRUE(input);
-    ASSERT_EQ(input->spec().nchannels, 6);
-    std::vector<float> pixels(6 * 6);
-    ASSERT_TRUE(input->read_image(0, 0, 0, 6, OIIO::TypeDesc::FLOAT, pixels.data()));
-    const auto channel = [&](const std::string& name) { return input->spec().channelindex(name); };
-    ASSERT_GE(channel("theta_z"), 0);
-    EXPECT_EQ(pixels[6 * 5 + channel("alpha_x")], float(maps.parameters[5].alpha_x));  // row 1, col 2
-    EXPECT_EQ(pixels[6 * 5 + channel("theta_z")], float(maps.parameters[5].theta_z));
-    EXPECT_EQ(pixels[6 * 5 + channel("relative_error")], float(maps.relative_error[5]));
-}
-
-TEST(EllipsoidMaps, EveryPatchOfABrushedFieldIsAnisotropic) {
-    Recipe recipe = default_recipe("brushed");
-    recipe.grid.rows = recipe.grid.cols = 256;
-    recipe.gaussian.correlation_length_x_um = 64.0;
-    LobeQuery query;
-    set_heightfield(query, generate(recipe));
-    query.resolution = 64;
-    const EllipsoidMaps maps = fit_ellipsoid_maps(query, "pndf", 128.0);
-    ASSERT_EQ(maps.rows, 2);
-    ASSERT_EQ(maps.cols, 2);
-    // Brushing is local: each 128 µm patch shows the field's strong anisotropy.
-    for (const EllipsoidNdf& p : maps.parameters) EXPECT_GT(p.alpha_x / p.alpha_y, 2.0);
 }
 
 }  // namespace

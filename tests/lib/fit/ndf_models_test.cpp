@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "glintscope/ndf_fit.hpp"
-#include "glintscope/ndf_models.hpp"
+#include "glintscope/fit/ndf_fit.hpp"
+#include "glintscope/fit/ndf_models.hpp"
 
 namespace glintscope {
 namespace {

@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <numbers>
 
-#include "surface/correlation_spectrum.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/statistics.hpp"
+#include "generate/correlation_spectrum.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/surface/statistics.hpp"
 
 namespace glintscope {
 namespace {

@@ -18,8 +18,8 @@
 
 #include "cli_runner.hpp"
 #include "zip_files.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/heightfield_io.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/io/heightfield_io.hpp"
 #include "core/md5.hpp"
 
 namespace glintscope {

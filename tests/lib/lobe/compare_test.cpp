@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "glintscope/compare.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/geometry.hpp"
+#include "glintscope/lobe/compare.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/geometry.hpp"
 
 namespace glintscope {
 namespace {

@@ -5,11 +5,12 @@
 #include <cmath>
 #include <string>
 
-#include "glintscope/error.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/prepare.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/prepare/prepare.hpp"
 
 namespace glintscope {
 namespace {

@@ -2,10 +2,11 @@
 // bit for bit.
 #include <gtest/gtest.h>
 
-#include "glintscope/error.hpp"
-#include "glintscope/heightfield_io.hpp"
-#include "glintscope/lobe_output.hpp"
-#include "glintscope/query_keys.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/io/heightfield_io.hpp"
+#include "glintscope/output/lobe_output.hpp"
+#include "glintscope/lobe/query_keys.hpp"
 #include "cli_runner.hpp"
 
 namespace glintscope {

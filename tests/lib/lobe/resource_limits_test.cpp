@@ -6,8 +6,9 @@
 #include <limits>
 #include <string>
 
-#include "glintscope/error.hpp"
-#include "glintscope/lobe.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/lobe/query.hpp"
 
 namespace glintscope {
 namespace {

@@ -2,10 +2,11 @@
 
 #include <cmath>
 
-#include "glintscope/error.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/slice.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/lobe/slice.hpp"
 
 namespace glintscope {
 namespace {
@@ -35,27 +36,6 @@ TEST(Slice, BilinearSlicesOfALinearFunctionAreExact) {
         }
     }
     EXPECT_THROW(parse_slice_direction("diagonal"), Error);
-}
-
-TEST(MeanLobe, IsThePixelMeanOfTheFootprintsLobes) {
-    LobeQuery query;
-    Heightfield field = make_heightfield(64, 64, 1.0);
-    for (int r = 0; r < 64; ++r)
-        for (int c = 0; c < 64; ++c) field.at(r, c) = float(0.3 * std::sin(0.5 * c) + 0.2 * std::cos(0.4 * r));
-    set_heightfield(query, field);
-    query.footprint.sigma_um = 4.0;
-    query.resolution = 24;
-    const std::vector<Point2> centres = {{20.0, 20.0}, {40.0, 30.0}, {25.0, 44.0}};
-    const LobeImage mean = compute_mean_lobe("fft", query, centres);
-    std::vector<double> expected(mean.values.size(), 0.0);
-    for (const Point2& centre : centres) {
-        LobeQuery one = query;
-        one.footprint.centre_um = centre;
-        const LobeImage image = compute_lobe("fft", one);
-        for (std::size_t i = 0; i < expected.size(); ++i) expected[i] += image.values[i] / 3.0;
-    }
-    for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(mean.values[i], expected[i], 1e-6 * (1.0 + expected[i]));
-    EXPECT_EQ(mean.metadata.at("footprints.count"), "3");
 }
 
 }  // namespace

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "glintscope/error.hpp"
-#include "glintscope/material.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/optics/material.hpp"
 
 namespace glintscope {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "glintscope/error.hpp"
-#include "glintscope/spectrum.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/optics/spectrum.hpp"
 
 namespace glintscope {
 namespace {

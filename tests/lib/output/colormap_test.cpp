@@ -11,8 +11,8 @@
 #include <OpenImageIO/imageio.h>
 
 #include "cli_runner.hpp"
-#include "glintscope/colormap.hpp"
-#include "glintscope/error.hpp"
+#include "glintscope/output/colormap.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 namespace {

@@ -11,9 +11,9 @@
 #include "cli_runner.hpp"
 #include "scoped_ocio.hpp"
 #include "core/embedded_data.hpp"
-#include "glintscope/colour.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/geometry.hpp"
+#include "glintscope/output/colour.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/geometry.hpp"
 
 namespace glintscope {
 namespace {

@@ -13,9 +13,9 @@
 
 #include "cli_runner.hpp"
 #include "scoped_ocio.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/figure.hpp"
-#include "glintscope/lobe_output.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/output/figure.hpp"
+#include "glintscope/output/lobe_output.hpp"
 
 namespace glintscope {
 namespace {

@@ -6,8 +6,8 @@
 #include <limits>
 #include <string>
 
-#include "glintscope/error.hpp"
-#include "glintscope/prepare.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/prepare/prepare.hpp"
 
 namespace glintscope {
 namespace {

@@ -3,8 +3,8 @@
 
 #include <string>
 
-#include "glintscope/error.hpp"
-#include "glintscope/prepare.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/prepare/prepare.hpp"
 
 namespace glintscope {
 namespace {

@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "cli_runner.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/heightfield_io.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/prepare.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/io/heightfield_io.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/prepare/prepare.hpp"
 
 namespace glintscope {
 namespace {

@@ -6,8 +6,8 @@
 #include <numbers>
 #include <vector>
 
-#include "glintscope/error.hpp"
-#include "glintscope/interpolant.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/surface/interpolant.hpp"
 
 namespace glintscope {
 namespace {

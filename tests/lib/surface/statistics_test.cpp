@@ -7,9 +7,9 @@
 #include <limits>
 #include <numbers>
 
-#include "glintscope/error.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/statistics.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/surface/statistics.hpp"
 
 namespace glintscope {
 namespace {

@@ -2,8 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "glintscope/generate.hpp"
-#include "glintscope/validate.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/validate/validate.hpp"
 
 namespace glintscope {
 namespace {
@@ -17,7 +17,7 @@ TEST(Validate, AFlatMirrorAgreesToTheKernelBlurAndEveryRowIsReported) {
     plan.base.wavelengths_um = {0.45, 0.6};
     // The mirror direction −ω̄_i at the centre of pixel (31, 40) of 64, so the peak is one pixel.
     plan.base.omega_i = direction_from_disk(-(40.5 / 32 - 1), -(1 - 31.5 / 32));
-    plan.centres = footprint_centres(*plan.base.field, plan.base.footprint, 4, true);
+    plan.base.footprints = parse_footprint_set("grid:2");
     plan.models = {DiffractionModel::rohs, DiffractionModel::kirchhoff};
     plan.kernels_per_texel = {2};
     const std::vector<ValidationRow> rows = run_validation(plan);
@@ -45,26 +45,6 @@ TEST(Validate, GaborMeetsItsDocumentedBoundOnTheIsotropicBuiltin) {
     // docs/gabor.md: K = 1 ~ 13-20%, K = 4 ≤ 1.5% at the canonical footprint; error falls with K.
     EXPECT_LT(rows[1].comparison.relative_l2, 0.015);
     EXPECT_GT(rows[0].comparison.relative_l2, 4.0 * rows[1].comparison.relative_l2);
-}
-
-TEST(Validate, FootprintCentresStayClearOfTheEdgesAndAreReproducible) {
-    const Heightfield field = make_heightfield(200, 300, 1.0);
-    Footprint footprint;
-    footprint.sigma_um = 10.0;
-    const std::vector<Point2> random = footprint_centres(field, footprint, 50, false, 7);
-    EXPECT_EQ(random.size(), 50u);
-    for (const Point2& p : random) {
-        EXPECT_GE(p.x, 32.5);
-        EXPECT_LE(p.x, 300.0 - 32.5);
-        EXPECT_GE(p.y, 32.5);
-        EXPECT_LE(p.y, 200.0 - 32.5);
-    }
-    const std::vector<Point2> again = footprint_centres(field, footprint, 50, false, 7);
-    EXPECT_EQ(again.front().x, random.front().x);
-    const std::vector<Point2> grid = footprint_centres(field, footprint, 9, true);
-    ASSERT_EQ(grid.size(), 9u);
-    EXPECT_DOUBLE_EQ(grid[4].x, 150.0);  // the middle cell's centre is the field's
-    EXPECT_DOUBLE_EQ(grid[4].y, 100.0);
 }
 
 }  // namespace

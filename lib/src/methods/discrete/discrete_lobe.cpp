@@ -7,13 +7,12 @@
 #include <utility>
 #include <vector>
 
-#include "geometric/normal_density.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/glint_map.hpp"
-#include "glintscope/material.hpp"
-#include "glintscope/ndf_models.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/text_format.hpp"
+#include "normal_density/normal_density.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/fit/ndf_models.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/core/text_format.hpp"
 #include "numerics/disk_table.hpp"
 
 namespace glintscope {
@@ -65,6 +64,35 @@ FlakeFootprint flake_footprint(const Footprint& footprint) {
 
 }  // namespace
 
+PixelQuery pixel_query(const LobeQuery& query, const DiscreteSetup& setup, DiskPoint p) {
+    const double fraction_per_flake = 1.0 / (setup.density_per_um2 * setup.footprint.area_um2());
+    PixelQuery pixel;
+    if (query.quantity == Quantity::ndf) {
+        pixel.h = direction_from_disk(p.x, p.y);
+        pixel.conic = spherical_conic(pixel.h, pixel.h, 2.0 * setup.cone);  // the cap of γ about h
+        // ∫_cap m_z dω = h_z π sin²γ: the cap's projected area, so that D̂ → D (Jakob 2014 eq. 6).
+        const double sine = std::sin(setup.cone);
+        pixel.scale = fraction_per_flake / (pixel.h.z * pi * sine * sine);
+        return pixel;
+    }
+    const Vec3 omega_i = query.omega_i;
+    const Vec3 omega_o = direction_from_disk(p.x, p.y);
+    pixel.h = normalize(omega_i + omega_o);
+    pixel.conic = spherical_conic(omega_i, omega_o, setup.cone);  // Jakob 2014 eq. 8
+    const double cone_solid_angle = 2.0 * pi * (1.0 - std::cos(setup.cone));
+    // Jakob 2014 eq. 5 with D̂ the flakes' share of projected area: the 1/h_z turns it into the
+    // microfacet lobe F D G/(4 cosθ_i cosθ_o) averaged over the cone as N → ∞ (docs/discrete.md).
+    pixel.scale = fraction_per_flake * dot(omega_i, pixel.h) /
+                  (cone_solid_angle * pixel.h.z * omega_i.z * omega_o.z);
+    return pixel;
+}
+
+// F at the first wavelength, for one direction pair (1 without a material).
+double fresnel_at(const LobeQuery& query, Vec3 h) {
+    if (query.material.name.empty()) return 1.0;
+    return fresnel_conductor(complex_refractive_index(query.material.name, query.wavelengths_um[0]), dot(query.omega_i, h));
+}
+
 void setup_discrete(const LobeQuery& query, DiscreteSetup& setup) {
     SmoothDistribution smooth = smooth_distribution(query);
     setup.integrals = integrate_distribution(std::move(smooth.density), 1e-2, 1e-8, smooth.table_depth);
@@ -114,34 +142,7 @@ void setup_discrete(const LobeQuery& query, DiscreteSetup& setup) {
 namespace {
 
 // What one sub-pixel contributes before Fresnel: D̂ for an NDF, f_r/F for a lobe.
-struct PixelQuery {
-    SphericalConic conic;
-    double scale = 0.0;  // value = scale × weighted count
-    Vec3 h;
-};
 
-PixelQuery pixel_query(const LobeQuery& query, const DiscreteSetup& setup, DiskPoint p) {
-    const double fraction_per_flake = 1.0 / (setup.density_per_um2 * setup.footprint.area_um2());
-    PixelQuery pixel;
-    if (query.quantity == Quantity::ndf) {
-        pixel.h = direction_from_disk(p.x, p.y);
-        pixel.conic = spherical_conic(pixel.h, pixel.h, 2.0 * setup.cone);  // the cap of γ about h
-        // ∫_cap m_z dω = h_z π sin²γ: the cap's projected area, so that D̂ → D (Jakob 2014 eq. 6).
-        const double sine = std::sin(setup.cone);
-        pixel.scale = fraction_per_flake / (pixel.h.z * pi * sine * sine);
-        return pixel;
-    }
-    const Vec3 omega_i = query.omega_i;
-    const Vec3 omega_o = direction_from_disk(p.x, p.y);
-    pixel.h = normalize(omega_i + omega_o);
-    pixel.conic = spherical_conic(omega_i, omega_o, setup.cone);  // Jakob 2014 eq. 8
-    const double cone_solid_angle = 2.0 * pi * (1.0 - std::cos(setup.cone));
-    // Jakob 2014 eq. 5 with D̂ the flakes' share of projected area: the 1/h_z turns it into the
-    // microfacet lobe F D G/(4 cosθ_i cosθ_o) averaged over the cone as N → ∞ (docs/discrete.md).
-    pixel.scale = fraction_per_flake * dot(omega_i, pixel.h) /
-                  (cone_solid_angle * pixel.h.z * omega_i.z * omega_o.z);
-    return pixel;
-}
 
 struct QueryTotals {
     std::vector<std::vector<double>> sums;  // [layer][pixel]: Σ over sub-pixels
@@ -187,11 +188,6 @@ QueryTotals evaluate_pixels(const LobeQuery& query, const DiscreteSetup& setup) 
     return totals;
 }
 
-// F at the first wavelength, for one direction pair (1 without a material).
-double fresnel_at(const LobeQuery& query, Vec3 h) {
-    if (query.material.name.empty()) return 1.0;
-    return fresnel_conductor(complex_refractive_index(query.material.name, query.wavelengths_um[0]), dot(query.omega_i, h));
-}
 
 LobeImage discrete_lobe(const LobeQuery& query) {
     DiscreteSetup setup;
@@ -214,48 +210,6 @@ LobeImage discrete_lobe(const LobeQuery& query) {
 }
 
 }  // namespace
-
-ScalarImage discrete_glint_map(const LobeQuery& lobe_query, Vec3 omega_o, int size, double step_um,
-                               const std::function<void(std::size_t done, std::size_t total)>& progress) {
-    LobeQuery query = lobe_query;
-    query.quantity = Quantity::brdf;
-    validate(query);
-    const MethodInfo info = discrete_method().info;
-    check_footprint(info, query.footprint);
-    check_option_keys(info, query);
-    if (!(size >= 1 && size <= 4096)) throw Error("glint map size must be 1 to 4096 positions, got " + std::to_string(size));
-    if (!(step_um > 0.0 && step_um <= 1e5))
-        throw Error("glint map spacing must be above 0 and at most 10 cm, got " + shortest_text(step_um) + " um");
-    if (!(std::isfinite(omega_o.z) && omega_o.z > 0.0 && std::abs(length(omega_o) - 1.0) < 1e-9))
-        throw Error("the outgoing direction must point above the surface (theta below 90 degrees)");
-    // Exact counts unless asked otherwise: eq. 10's estimates stand in for whole nodes of flakes,
-    // which a moving footprint shows as the tree's squares.
-    if (!query.method_options.contains("error")) query.method_options.insert_or_assign("error", std::string("0"));
-    DiscreteSetup setup;
-    setup_discrete(query, setup);
-    const PixelQuery pixel = pixel_query(query, setup, DiskPoint{omega_o.x, omega_o.y});
-    const double scale = pixel.scale * fresnel_at(query, pixel.h);
-    ScalarImage map{size, size, std::vector<float>(static_cast<std::size_t>(size) * size, 0.0f)};
-    const double middle = 0.5 * (size - 1);
-    // Bands of rows, so that progress can be reported between them from this thread.
-    constexpr std::size_t kBandRows = 16;
-    for (std::size_t band = 0; band < static_cast<std::size_t>(size); band += kBandRows) {
-        const std::size_t band_end = std::min<std::size_t>(size, band + kBandRows);
-        parallel_for(band_end - band, 1, [&](std::size_t begin, std::size_t end) {
-            SplitCache cache;
-            for (std::size_t r = band + begin; r < band + end; ++r)
-                for (int c = 0; c < size; ++c) {
-                    FlakeFootprint footprint = setup.footprint;
-                    footprint.centre_x += (c - middle) * step_um;
-                    footprint.centre_y += (middle - static_cast<double>(r)) * step_um;
-                    const FlakeCount count = count_flakes(setup.material, footprint, pixel.conic, setup.epsilon, &cache);
-                    map.values[r * size + c] = static_cast<float>(scale * count.weighted);
-                }
-        });
-        if (progress) progress(band_end, static_cast<std::size_t>(size));
-    }
-    return map;
-}
 
 MethodEntry discrete_method() {
     MethodEntry entry;

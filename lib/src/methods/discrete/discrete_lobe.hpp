@@ -8,7 +8,7 @@
 // As N grows the images converge to the smooth NDF and microfacet lobe (docs/discrete.md).
 // Metadata: "discrete.*" (flakes in the footprint and in the tile, density, distribution, α, cone,
 // seed, tile, ε, table entries, nodes visited per query).
-#include "glintscope/lobe.hpp"
+#include "glintscope/lobe/query.hpp"
 #include "lobe/method.hpp"
 #include "methods/discrete/flake_hierarchy.hpp"
 
@@ -29,5 +29,17 @@ struct DiscreteSetup {
 
 // Reads the options and builds the distribution's triangle table; throws Error naming a bad option.
 void setup_discrete(const LobeQuery& query, DiscreteSetup& setup);
+
+// What one pixel (a disk point: ω_o for brdf, h for ndf) asks of the flakes: the spherical conic
+// to count in, and the factor from the weighted count to the pixel's value (Jakob 2014 eq. 5).
+struct PixelQuery {
+    SphericalConic conic;
+    double scale = 0.0;  // value = scale × weighted count
+    Vec3 h;
+};
+PixelQuery pixel_query(const LobeQuery& query, const DiscreteSetup& setup, DiskPoint p);
+
+// F at the first wavelength, for one direction pair (1 without a material).
+double fresnel_at(const LobeQuery& query, Vec3 h);
 
 }  // namespace glintscope

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/counter_rng.hpp"
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 

@@ -4,7 +4,7 @@
 // seen from outside the sphere; the hemisphere's root splits into the four octant quadrants.
 #include <array>
 
-#include "glintscope/geometry.hpp"
+#include "glintscope/core/geometry.hpp"
 
 namespace glintscope {
 

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-#include "glintscope/error.hpp"
-#include "glintscope/material.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/core/text_format.hpp"
 #include "methods/fft/fft_lobe.hpp"
 #include "numerics/disk_table.hpp"
 

@@ -8,13 +8,13 @@
 #include <string>
 
 #include "numerics/chirp_z.hpp"
-#include "numerics/footprint_grid.hpp"
-#include "optics/xi3_slices.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/material.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/text_format.hpp"
+#include "wave/footprint_grid.hpp"
+#include "wave/xi3_slices.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {

@@ -24,7 +24,7 @@
 #include <functional>
 #include <vector>
 
-#include "numerics/footprint_grid.hpp"
+#include "wave/footprint_grid.hpp"
 
 #include "lobe/method.hpp"
 

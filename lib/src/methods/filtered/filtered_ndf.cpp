@@ -3,10 +3,10 @@
 #include <cmath>
 #include <string>
 
-#include "geometric/normal_density.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/text_format.hpp"
+#include "normal_density/normal_density.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/core/text_format.hpp"
 #include "methods/pndf/pndf.hpp"
 
 namespace glintscope {

@@ -14,7 +14,7 @@
 // Method options: filter_sigma (length, default 1 µm), and intrinsic_roughness, refinement and
 // tolerance as for pndf. Metadata: "filtered.filter_sigma_um", "filtered.refinement",
 // "filtered.intrinsic_roughness_rad".
-#include "glintscope/lobe.hpp"
+#include "glintscope/lobe/query.hpp"
 #include "lobe/method.hpp"
 
 namespace glintscope {

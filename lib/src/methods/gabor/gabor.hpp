@@ -18,11 +18,11 @@
 #include <memory>
 #include <vector>
 
-#include "glintscope/diffraction_model.hpp"
-#include "glintscope/geometry.hpp"
-#include "glintscope/interpolant.hpp"
-#include "glintscope/gabor_surface.hpp"
-#include "glintscope/lobe.hpp"
+#include "glintscope/optics/diffraction_model.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/surface/interpolant.hpp"
+#include "glintscope/methods/gabor/gabor_surface.hpp"
+#include "glintscope/lobe/query.hpp"
 #include "lobe/method.hpp"
 
 namespace glintscope {

@@ -6,7 +6,7 @@
 #include <memory>
 #include <vector>
 
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope::gabor {
 namespace {

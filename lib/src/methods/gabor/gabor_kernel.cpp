@@ -3,8 +3,8 @@
 #include <numbers>
 #include <string>
 
-#include "glintscope/error.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
 #include "gabor.hpp"
 
 namespace glintscope {

@@ -6,7 +6,7 @@
 #include <cstring>
 #include <numbers>
 
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
 
 // The SIMD helpers here and in gabor_math.hpp are always inlined, so the vector calling
 // convention that -Wpsabi warns about never applies.

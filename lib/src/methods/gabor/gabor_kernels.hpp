@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "gabor.hpp"
-#include "glintscope/material.hpp"
+#include "glintscope/optics/material.hpp"
 
 namespace glintscope::gabor {
 

@@ -13,10 +13,10 @@
 #include "gabor_kernels.hpp"
 #include "gabor_product.hpp"
 #include "gabor.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/text_format.hpp"
-#include "optics/xi3_slices.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "wave/xi3_slices.hpp"
 
 namespace glintscope {
 namespace {

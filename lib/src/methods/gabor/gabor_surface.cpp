@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "gabor_kernels.hpp"
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
 #include "gabor.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/core/parallel.hpp"
 
 // AVX2 and portable clones of a function that must stay out of line (GCC would otherwise inline
 // the portable clone into its caller). Clang never inlines a multiversioned function and

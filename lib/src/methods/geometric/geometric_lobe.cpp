@@ -4,13 +4,13 @@
 #include <cmath>
 #include <string>
 
-#include "geometric/normal_density.hpp"
+#include "normal_density/normal_density.hpp"
 #include "numerics/disk_table.hpp"
-#include "glintscope/error.hpp"
-#include "glintscope/material.hpp"
-#include "glintscope/ndf_fit.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/fit/ndf_fit.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/core/text_format.hpp"
 #include "methods/filtered/filtered_ndf.hpp"
 #include "methods/pndf/pndf.hpp"
 

@@ -17,7 +17,7 @@
 // 1/N in h, an NDF pixel 2/M, and bilinear reading blurs by about one NDF pixel; at the default
 // the blur is a quarter of a lobe pixel), filter_sigma (filtered only), intrinsic_roughness, refinement, tolerance.
 // Metadata: "geometric.ndf", "geometric.shadowing", "geometric.ndf_resolution", "geometric.refinement".
-#include "glintscope/lobe.hpp"
+#include "glintscope/lobe/query.hpp"
 #include "lobe/method.hpp"
 
 namespace glintscope {

@@ -1,7 +1,7 @@
 #include "methods/pndf/pndf.hpp"
 
-#include "glintscope/error.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 

@@ -7,8 +7,8 @@
 // "pndf.weight_sigma_um".
 #include <vector>
 
-#include "geometric/normal_density.hpp"
-#include "glintscope/lobe.hpp"
+#include "normal_density/normal_density.hpp"
+#include "glintscope/lobe/query.hpp"
 #include "lobe/method.hpp"
 
 namespace glintscope {

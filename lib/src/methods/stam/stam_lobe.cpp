@@ -24,11 +24,11 @@
 #include <numbers>
 #include <vector>
 
-#include "glintscope/error.hpp"
-#include "glintscope/text_format.hpp"
-#include "glintscope/material.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/statistics.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/surface/statistics.hpp"
 
 namespace glintscope {
 namespace {

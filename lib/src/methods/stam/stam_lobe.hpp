@@ -7,8 +7,8 @@
 #include <complex>
 #include <string>
 
-#include "glintscope/generate.hpp"
-#include "glintscope/lobe.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/lobe/query.hpp"
 #include "lobe/method.hpp"
 
 namespace glintscope {

@@ -8,11 +8,12 @@
 #include <cmath>
 #include <string>
 
-#include "glintscope/error.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/glint_map.hpp"
-#include "glintscope/material.hpp"
-#include "glintscope/ndf_models.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/maps/glint_map.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/fit/ndf_models.hpp"
 
 namespace glintscope {
 namespace {

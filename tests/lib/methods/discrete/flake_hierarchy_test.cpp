@@ -10,7 +10,7 @@
 #include <map>
 #include <vector>
 
-#include "glintscope/ndf_models.hpp"
+#include "glintscope/fit/ndf_models.hpp"
 
 namespace glintscope {
 namespace {

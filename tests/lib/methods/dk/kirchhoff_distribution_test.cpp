@@ -10,12 +10,14 @@
 #include <string>
 #include <vector>
 
-#include "glintscope/compare.hpp"
-#include "glintscope/generate.hpp"
+#include "glintscope/lobe/compare.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "mean_lobe.hpp"
+#include "glintscope/generate/generate.hpp"
 #include "disk_sums.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/ndf_models.hpp"
-#include "glintscope/statistics.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/fit/ndf_models.hpp"
+#include "glintscope/surface/statistics.hpp"
 
 namespace glintscope {
 namespace {
@@ -138,7 +140,7 @@ TEST(KirchhoffDistribution, SmoothRandomSurfaceShowsTheCoherentSpikeOfWeightExpM
     LobeQuery query = query_for(std::move(field), Quantity::ndf, 128);
     query.footprint.sigma_um = 5.0;
     query.supersample = 4;
-    const LobeImage mean = compute_mean_lobe("dk", query, {{16, 16}, {48, 16}, {16, 48}, {48, 48}});
+    const LobeImage mean = testing::mean_of_single_lobes("dk", query, {{16, 16}, {48, 16}, {16, 48}, {48, 48}});
     double central = 0.0, ring = 0.0, ring_area = 0.0;
     const double area = disk_pixel_area(128);
     for (int r = 0; r < 128; ++r)
@@ -232,9 +234,9 @@ TEST(KirchhoffDistribution, RoughRandomSurfaceApproachesTheGeometricNdf) {
     query.supersample = 1;
     query.method_options = {{"oversampling", "1"}};
     const std::vector<Point2> centres{{32, 32}, {96, 32}, {32, 96}, {96, 96}};
-    const LobeImage dk = compute_mean_lobe("dk", query, centres);
+    const LobeImage dk = testing::mean_of_single_lobes("dk", query, centres);
     query.method_options = {};
-    const LobeImage pndf = compute_mean_lobe("pndf", query, centres);
+    const LobeImage pndf = testing::mean_of_single_lobes("pndf", query, centres);
     double difference = 0.0, norm = 0.0;
     for (int r = 0; r < 48; ++r)
         for (int c = 0; c < 48; ++c) {

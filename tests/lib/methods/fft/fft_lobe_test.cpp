@@ -8,12 +8,13 @@
 #include <numbers>
 #include <string>
 
-#include "glintscope/error.hpp"
-#include "glintscope/compare.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/lobe/compare.hpp"
 #include "methods/fft/fft_lobe.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/material.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 namespace {
@@ -28,6 +29,7 @@ LobeQuery query_for(Heightfield field, double sigma_um, double lambda_um, int re
     query.footprint.sigma_um = sigma_um;
     query.wavelengths_um = {lambda_um};
     query.resolution = resolution;
+    query.supersample = 1;  // pixel centres: where the closed forms below are evaluated
     set_heightfield(query, std::move(field));
     return query;
 }

@@ -6,9 +6,10 @@
 
 #include <cmath>
 
-#include "glintscope/generate.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 #include "disk_sums.hpp"
-#include "glintscope/lobe.hpp"
+#include "glintscope/lobe/query.hpp"
 
 namespace glintscope {
 namespace {

@@ -4,8 +4,9 @@
 
 #include <string>
 
-#include "glintscope/error.hpp"
-#include "glintscope/lobe.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/lobe/query.hpp"
 #include "methods/gabor/gabor_kernels.hpp"
 
 namespace glintscope {

@@ -11,13 +11,14 @@
 #include <vector>
 
 #include "methods/gabor/gabor_kernels.hpp"
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 #include "methods/fft/fft_lobe.hpp"
-#include "glintscope/compare.hpp"
+#include "glintscope/lobe/compare.hpp"
 #include "methods/gabor/gabor.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/material.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
 namespace {
@@ -37,6 +38,7 @@ LobeQuery isotropic_query(int resolution) {
     query.footprint.centre_um = isotropic_field()->centre_um();
     query.footprint.sigma_um = 10.0;
     query.resolution = resolution;
+    query.supersample = 1;  // pixel centres: what point queries evaluate
     query.wavelengths_um = {0.5};
     return query;
 }

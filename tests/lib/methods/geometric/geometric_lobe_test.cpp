@@ -1,17 +1,18 @@
 // The geometric lobe against closed forms (a mirror's albedo is F, a tilted plane reflects into
 // its mirror direction), reciprocity, energy on a smooth rough surface, Smith shadowing taking
 // energy away, thread independence, and the geometric limit of the FFT Kirchhoff lobe.
-#include "glintscope/lobe.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "glintscope/generate.hpp"
-#include "glintscope/material.hpp"
-#include "glintscope/parallel.hpp"
-#include "glintscope/text_format.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {

@@ -6,10 +6,11 @@
 
 #include <cmath>
 
-#include "glintscope/error.hpp"
-#include "glintscope/lobe.hpp"
-#include "glintscope/statistics.hpp"
-#include "glintscope/generate.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/surface/statistics.hpp"
+#include "glintscope/generate/generate.hpp"
 
 namespace glintscope {
 namespace {

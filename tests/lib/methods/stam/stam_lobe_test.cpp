@@ -9,11 +9,12 @@
 #include <utility>
 #include <vector>
 
-#include "glintscope/error.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 #include "methods/fft/fft_lobe.hpp"
-#include "glintscope/generate.hpp"
-#include "glintscope/material.hpp"
-#include "glintscope/parallel.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/core/parallel.hpp"
 #include "methods/stam/stam_lobe.hpp"
 
 namespace glintscope {

@@ -1,0 +1,35 @@
+#pragma once
+// Reading and writing heightfields. The format follows the file extension:
+//   .exr .tif .tiff .png  images through OpenImageIO (one channel holds heights)
+//   .npy                  NumPy arrays, float32/float64, C order, 2-D
+//   .x3p                  ISO 25178-72 XML 3D surface profile (zip of main.xml + bindata/data.bin)
+// Files that carry no units (NPY, plain images) default to 1 µm texels and heights in µm, and
+// the returned field has units_assumed = true. EXR files written here carry the texel size,
+// units and provenance in their header, so they reload with units. Integer pixels are heights
+// at their stored values (a 16-bit PNG holds 0..65535 in the height unit), never normalised.
+// X3P's first data row is the smallest y, so it becomes the bottom row of the map view.
+#include <optional>
+#include <string>
+
+#include "glintscope/surface/heightfield.hpp"
+#include "glintscope/core/units.hpp"
+
+namespace glintscope {
+
+struct LoadOptions {
+    std::string channel;                     // image channel name or index; empty: Z, Y, R or the first
+    std::optional<LengthUnit> height_unit;   // unit of the stored heights; texel = multiples of dx
+    std::optional<double> texel_um;          // overrides the file's sample spacing
+    double height_scale = 1.0;               // multiplies heights after unit conversion
+    bool periodic = false;                   // the file holds one tile of a periodic surface
+};
+
+// Throws Error with a one-line message naming the file and the problem (missing, corrupt,
+// truncated, empty, wrong channel, unsupported type, ...). Missing points load as NaN.
+Heightfield load_heightfield(const std::string& path, const LoadOptions& options = {});
+
+// Writes .exr (float heights, texel size, units, provenance in the header), .x3p (exact round
+// trip) or .npy, atomically (see atomic_output.hpp). Throws Error for other extensions.
+void save_heightfield(const std::string& path, const Heightfield& field);
+
+}  // namespace glintscope

@@ -1,0 +1,31 @@
+#pragma once
+// Comparing two images of the same query (e.g. gabor against the fft ground truth, a wave lobe
+// against the geometric one): the numbers `validate` reports and the tests assert.
+#include <vector>
+
+#include "glintscope/lobe/image.hpp"
+
+namespace glintscope {
+
+struct LayerComparison {
+    double wavelength_um = 0.0;
+    double relative_l2 = 0.0;       // √(Σ (t − r)²) / √(Σ r²) over the pixels inside the disk
+    double max_abs_difference = 0.0;
+    int max_row = 0;                // where |t − r| is largest
+    int max_col = 0;
+    double test_sum = 0.0;          // Σ t (2/N)²: albedo (brdf) or normalisation (ndf)
+    double reference_sum = 0.0;
+    double peak_offset_pixels = 0.0;  // distance between the two peaks' pixels
+    double peak_relative_error = 0.0; // |t − r|/r at the reference's peak pixel
+    // Root mean square of log10(t/r) over the pixels where r is above 1e-3 of its peak: how
+    // well the tails agree, which the relative L2 (dominated by the peak) does not show. A
+    // pixel where t ≤ 0 counts as log10 of 1e-3 of the peak over r.
+    double log_rms_error = 0.0;
+
+    double energy_ratio() const { return reference_sum != 0.0 ? test_sum / reference_sum : 0.0; }
+};
+
+// Per layer; throws Error when the images differ in resolution, quantity or wavelengths.
+std::vector<LayerComparison> compare_lobes(const LobeImage& test, const LobeImage& reference);
+
+}  // namespace glintscope

@@ -1,0 +1,34 @@
+#pragma once
+// What the library says about a method: its name, reference, the quantities it answers, the
+// query fields it ignores and its option keys (the method table, pipeline.hpp, lists them).
+#include <string>
+#include <vector>
+
+#include "glintscope/lobe/image.hpp"
+
+namespace glintscope {
+
+// Query fields a method may ignore; the pipeline records them as not applicable.
+enum class QueryField { footprint, incident, wavelengths, model, material, supersample };
+std::string to_string(QueryField field);
+
+struct MethodOption {
+    std::string key;   // e.g. "kernels_per_texel"
+    std::string help;  // one line, with the default
+};
+
+struct MethodInfo {
+    std::string name;                 // e.g. "fft"
+    std::string description;          // one line
+    std::string reference;            // e.g. "Yan 2018 eq. 6"
+    std::vector<Quantity> quantities;  // what it can answer
+    std::vector<QueryField> ignored;   // query fields that do not affect its result
+    std::vector<MethodOption> options;
+    bool wave_optics = false;          // its lobes carry the coherence blur λ/(2πσ_c)
+    bool whole_field = false;          // it answers FootprintShape::whole
+
+    bool answers(Quantity quantity) const;
+    bool ignores(QueryField field) const;
+};
+
+}  // namespace glintscope

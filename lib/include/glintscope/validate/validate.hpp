@@ -1,0 +1,64 @@
+#pragma once
+// Validation of one method against another on the same queries: by default the Gabor kernels
+// (Yan 2018 §4–5) against the exact FFT ground truth (Yan 2018 eq. 6), over footprints, models,
+// kernel densities and wavelengths, with compare_lobes' numbers and the time of each.
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "glintscope/lobe/compare.hpp"
+#include "glintscope/lobe/query.hpp"
+
+namespace glintscope {
+
+struct ValidationPlan {
+    LobeQuery base;                          // heightfield, footprint(s), ω_i, λ, ...: a row per footprint
+    std::string test_method = "gabor";
+    std::string reference_method = "fft";
+    std::vector<DiffractionModel> models;    // default: the base query's model
+    std::vector<int> kernels_per_texel;      // the test method's option; empty: its default
+};
+
+struct ValidationRow {
+    Point2 centre_um;
+    DiffractionModel model = DiffractionModel::rohs;
+    int kernels_per_texel = 0;               // 0: the test method's default
+    LayerComparison comparison;              // one wavelength
+    double test_seconds = 0.0;               // for the whole query (all wavelengths)
+    double reference_seconds = 0.0;
+};
+
+// Progress: called after each computed lobe with (done, total, what was computed).
+using ProgressCallback = std::function<void(std::size_t done, std::size_t total, const std::string& what)>;
+
+// Called with each compared pair (for pictures); `row` is the pair's first row.
+using PairCallback = std::function<void(const ValidationRow& row, const LobeImage& test, const LobeImage& reference)>;
+
+// Every combination of footprint (base.footprints, each on its own) × model × density, one row
+// per wavelength. The reference lobe of a (centre, model) is computed once and shared by the
+// densities; test and reference share the reference method's supersampling.
+std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress = {},
+                                          const PairCallback& pair = {});
+
+// test − reference, per pixel and layer (a signed image: figure.hpp draws it on a diverging scale).
+LobeImage difference_image(const LobeImage& test, const LobeImage& reference);
+
+// Convergence of the two methods at the plan's first centre, model and wavelength:
+// - Gabor against the FFT ground truth as the kernels per texel K go 1, 2, 3, 4;
+// - the FFT against itself at a quarter of its automatic step, as the step goes from twice the
+//   automatic one down to half of it (what the automatic choice leaves on the table).
+struct ConvergencePoint {
+    std::string series;    // "gabor_kernels_per_texel" or "fft_step_um"
+    double parameter = 0.0;
+    double relative_l2 = 0.0;
+};
+std::vector<ConvergencePoint> run_convergence(const ValidationPlan& plan, const ProgressCallback& progress = {});
+std::string convergence_csv(const std::vector<ConvergencePoint>& points);
+
+// The rows as CSV (one header line, then one line per row) and as a JSON report (the plan's
+// base query keys, then the rows; numbers as JSON numbers).
+std::string validation_csv(const std::vector<ValidationRow>& rows);
+std::string validation_json(const ValidationPlan& plan, const std::vector<ValidationRow>& rows);
+
+}  // namespace glintscope

@@ -1,0 +1,260 @@
+// The request pipeline: find the method, check and plan the query, run it over its footprints,
+// label the image and collect what the caller should say.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/core/version.hpp"
+#include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "pipeline/method_table.hpp"
+
+namespace glintscope {
+namespace {
+
+const MethodEntry& find_method(const std::string& name) {
+    for (const MethodEntry& entry : method_table())
+        if (entry.info.name == name) return entry;
+    std::vector<std::string> known;
+    for (const MethodEntry& entry : method_table()) known.push_back(entry.info.name);
+    throw Error("unknown method '" + name + "' (available: " + join(known) + ")");
+}
+
+// The names of the methods for which `able` holds, for messages that point to an alternative.
+template <typename Predicate>
+std::string methods_that(Predicate able) {
+    std::vector<std::string> names;
+    for (const MethodEntry& entry : method_table())
+        if (able(entry.info)) names.push_back(entry.info.name);
+    return names.empty() ? "none" : join(names);
+}
+
+void check_quantity(const MethodInfo& method, Quantity quantity) {
+    if (method.answers(quantity)) return;
+    throw Error("method '" + method.name + "' does not compute " + to_string(quantity) + " (methods that do: " +
+                methods_that([&](const MethodInfo& info) { return info.answers(quantity); }) + ")");
+}
+
+// The query keys (query_keys.hpp) in which a field is written.
+std::vector<std::string> keys_of(QueryField field) {
+    switch (field) {
+        case QueryField::footprint: return {"footprint", "centre", "sigma_c", "box", "footprints"};
+        case QueryField::incident: return {"omega_i"};
+        case QueryField::wavelengths: return {"lambda"};
+        case QueryField::model: return {"model"};
+        case QueryField::material: return {"material"};
+        case QueryField::supersample: return {"supersample"};
+    }
+    return {};
+}
+
+void label(LobeImage& image, const MethodInfo& method, const LobeQuery& query) {
+    for (const auto& [key, value] : describe_query(query)) image.metadata.insert_or_assign(key, value);
+    // A method may add fields it ignores for one quantity only (e.g. the incident direction of an NDF).
+    std::vector<std::string> not_applicable;
+    if (image.metadata.count("not_applicable")) not_applicable = split(image.metadata.at("not_applicable"), ',');
+    for (QueryField field : method.ignored)
+        for (const std::string& key : keys_of(field)) not_applicable.push_back(key);
+    if (!not_applicable.empty()) image.metadata["not_applicable"] = join(not_applicable);
+    image.metadata["method"] = method.name;
+    image.metadata["method.reference"] = method.reference;
+    image.metadata["quantity"] = to_string(query.quantity);
+    image.metadata["heightfield.tiling"] = query.field->periodic ? "periodic" : "non-periodic";
+}
+
+// One footprint through the method; errors prefixed with the method's name once (messages shared
+// with a method's other entry points may already name it).
+LobeImage compute_one(const MethodEntry& entry, const LobeQuery& query) {
+    try {
+        return entry.compute(query);
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        const std::string& name = entry.info.name;
+        throw Error(what.starts_with(name + ": ") ? what : name + ": " + what);
+    }
+}
+
+// The mean of the method's images over the centres, pixel by pixel in order (deterministic).
+LobeImage mean_over_centres(const MethodEntry& entry, const LobePlan& plan, const RunProgress& progress) {
+    LobeImage mean;
+    std::vector<double> sums;
+    for (std::size_t k = 0; k < plan.centres.size(); ++k) {
+        LobeQuery one = plan.query;
+        one.footprint.centre_um = plan.centres[k];
+        LobeImage image = compute_one(entry, one);
+        if (sums.empty()) {
+            mean = std::move(image);
+            sums.assign(mean.values.begin(), mean.values.end());
+        } else {
+            for (std::size_t i = 0; i < sums.size(); ++i) sums[i] += image.values[i];
+        }
+        if (progress) progress(k + 1, plan.centres.size());
+    }
+    for (std::size_t i = 0; i < sums.size(); ++i) mean.values[i] = static_cast<float>(sums[i] / plan.centres.size());
+    Point2 low{INFINITY, INFINITY}, high{-INFINITY, -INFINITY};
+    for (const Point2& centre : plan.centres) {
+        low = {std::min(low.x, centre.x), std::min(low.y, centre.y)};
+        high = {std::max(high.x, centre.x), std::max(high.y, centre.y)};
+    }
+    mean.metadata["footprints.count"] = std::to_string(plan.centres.size());
+    mean.metadata["footprints.centres_um"] = shortest_text(low.x) + "," + shortest_text(low.y) + " to " +
+                                             shortest_text(high.x) + "," + shortest_text(high.y);
+    return mean;
+}
+
+// The coherence window blurs a wave lobe by about λ/(2πσ_c) in disk units (the shortest
+// wavelength's is the sharpest); a pixel is 2/N wide.
+double coherence_blur(const LobeQuery& query) {
+    const double lambda = *std::min_element(query.wavelengths_um.begin(), query.wavelengths_um.end());
+    return lambda / (2.0 * pi * query.footprint.sigma_um);
+}
+
+bool point_sampled(const MethodInfo& method, const LobeQuery& query) {
+    return method.wave_optics && query.footprint.shape == FootprintShape::gaussian &&
+           coherence_blur(query) * query.supersample < 2.0 / query.resolution;
+}
+
+int supersample_for(const MethodInfo& method, const LobeQuery& query) {
+    if (!method.wave_optics || query.footprint.shape != FootprintShape::gaussian) return 1;
+    const double pixel = 2.0 / query.resolution;
+    return std::clamp(static_cast<int>(std::ceil(1.5 * pixel / coherence_blur(query))), 1, 8);
+}
+
+std::string rounded(double value) { return shortest_text(std::round(value * 1e5) / 1e5); }
+
+}  // namespace
+
+void check_footprint(const MethodInfo& method, const Footprint& footprint) {
+    if (footprint.shape != FootprintShape::whole || method.whole_field) return;
+    throw Error("method '" + method.name + "' needs a finite footprint, not the whole field (methods that take it: " +
+                methods_that([](const MethodInfo& info) { return info.whole_field; }) + ")");
+}
+
+void check_option_keys(const MethodInfo& method, const LobeQuery& query) {
+    for (const auto& option_value : query.method_options) {
+        const std::string& key = option_value.first;  // a plain reference: lambdas may capture it
+        const bool known = std::any_of(method.options.begin(), method.options.end(),
+                                       [&](const MethodOption& option) { return option.key == key; });
+        if (known) continue;
+        std::vector<std::string> keys;
+        for (const MethodOption& option : method.options) keys.push_back(option.key);
+        throw Error("method '" + method.name + "' has no option '" + key + "' (options: " +
+                    (keys.empty() ? "none" : join(keys)) + ")");
+    }
+}
+
+std::vector<MethodInfo> lobe_methods() {
+    std::vector<MethodInfo> infos;
+    for (const MethodEntry& entry : method_table()) infos.push_back(entry.info);
+    return infos;
+}
+
+MethodInfo lobe_method(const std::string& name) { return find_method(name).info; }
+
+int recommended_supersample(const std::string& method, const LobeQuery& query) {
+    return supersample_for(find_method(method).info, query);
+}
+
+LobePlan plan_lobe(const std::string& method, const LobeQuery& query) {
+    const MethodEntry& entry = find_method(method);
+    validate(query);
+    check_quantity(entry.info, query.quantity);
+    check_footprint(entry.info, query.footprint);
+    try {
+        check_option_keys(entry.info, query);
+    } catch (const Error& e) {
+        throw Error(method + ": " + e.what());
+    }
+    LobePlan plan{method, query, {}, {}};
+    if (query.supersample == 0) {
+        plan.query.supersample = supersample_for(entry.info, query);
+        if (plan.query.supersample > 1)
+            plan.notes.push_back("supersampled " + std::to_string(plan.query.supersample) + "x" +
+                                 std::to_string(plan.query.supersample) +
+                                 ", because the coherence blur lambda/(2 pi sigma_c) = " + rounded(coherence_blur(query)) +
+                                 " is below a pixel (" + rounded(2.0 / query.resolution) +
+                                 "; --supersample 1 point-samples)");
+    }
+    if (entry.info.ignores(QueryField::footprint) || query.footprint.shape == FootprintShape::whole) {
+        plan.query.footprints = {};
+        plan.centres = {query.footprint.centre_um};
+        return plan;
+    }
+    plan.centres = footprint_centres(*query.field, query.footprint, query.footprints);
+    for (const Point2& centre : plan.centres) {
+        LobeQuery one = plan.query;
+        one.footprint.centre_um = centre;
+        check_footprint_inside(one);
+    }
+    if (plan.centres.size() > 1)
+        plan.notes.push_back("averaged over " + std::to_string(plan.centres.size()) + " footprints (" +
+                             to_string(query.footprints) + ")");
+    return plan;
+}
+
+LobeRun run_lobe(const std::string& method, const LobeQuery& query, const RunProgress& progress) {
+    const LobePlan plan = plan_lobe(method, query);
+    const MethodEntry& entry = find_method(method);
+    const auto start = std::chrono::steady_clock::now();
+    LobeRun run;
+    run.image = plan.query.footprints.single() ? compute_one(entry, plan.query) : mean_over_centres(entry, plan, progress);
+    run.image.quantity = plan.query.quantity;
+    label(run.image, entry.info, plan.query);
+    run.image.metadata["version"] = version();
+    run.image.metadata["supersample.rule"] = query.supersample == 0 ? "auto" : "given";
+    run.image.metadata["run.seconds"] = shortest_text(
+        std::round(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() * 1e3) / 1e3);
+    run.notes = plan.notes;
+    run.warnings = query_warnings(method, plan.query);
+    for (std::string& warning : image_warnings(run.image)) run.warnings.push_back(std::move(warning));
+    return run;
+}
+
+LobeImage compute_lobe(const std::string& method, const LobeQuery& query) { return run_lobe(method, query).image; }
+
+std::vector<std::string> query_warnings(const std::string& method, const LobeQuery& query) {
+    const MethodInfo& info = find_method(method).info;
+    std::vector<std::string> warnings;
+    if (point_sampled(info, query)) {
+        const double pixel = 2.0 / (query.resolution * std::max(query.supersample, 1));
+        warnings.push_back("the coherence blur lambda/(2 pi sigma_c) = " + rounded(coherence_blur(query)) +
+                           " is smaller than a sub-pixel (" + rounded(pixel) +
+                           "): the lobe is point-sampled and its albedo and peak are off (use --supersample " +
+                           std::to_string(supersample_for(info, query) * std::max(query.supersample, 1)) +
+                           " or a larger --res)");
+    }
+    // Kirchhoff-based models ignore shadowing and masking, which dominate near grazing.
+    if (info.wave_optics && query.omega_i.z < std::cos(80.0 * pi / 180.0))
+        warnings.push_back("incidence beyond 80 degrees: the diffraction models ignore shadowing and masking, "
+                           "which dominate there: the lobe is outside their validity");
+    return warnings;
+}
+
+std::vector<std::string> image_warnings(const LobeImage& image) {
+    std::vector<std::string> warnings;
+    const double pixel_area = disk_pixel_area(image.resolution);
+    const std::size_t pixels = std::size_t(image.resolution) * image.resolution;
+    for (std::size_t layer = 0; layer < image.layers(); ++layer) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < pixels; ++i) sum += image.values[layer * pixels + i];
+        sum *= pixel_area;
+        const std::string at = "at " + shortest_text(image.wavelengths_um[layer]) + " um";
+        if (image.quantity == Quantity::brdf && sum > 1.02) {
+            warnings.push_back("albedo " + shortest_text(std::round(sum * 1e4) / 1e4) + " " + at +
+                               " exceeds 1 by more than 2%: the model creates energy here (e.g. R-OHS's 1/cos "
+                               "theta_o near grazing)");
+            break;
+        }
+        if (image.quantity == Quantity::ndf && std::fabs(sum - 1.0) > 0.02) {
+            warnings.push_back("the NDF integrates to " + shortest_text(std::round(sum * 1e4) / 1e4) +
+                               " on the disk, not 1 (mass beyond the disk or the footprint, or peaks narrower "
+                               "than a pixel that its centres miss: try --supersample)");
+            break;
+        }
+    }
+    return warnings;
+}
+
+}  // namespace glintscope

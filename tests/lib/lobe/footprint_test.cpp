@@ -1,0 +1,47 @@
+// Footprints and the sets of footprints a request averages over.
+#include <gtest/gtest.h>
+
+#include "glintscope/core/error.hpp"
+#include "glintscope/lobe/footprint.hpp"
+
+namespace glintscope {
+namespace {
+
+TEST(FootprintSet, CentresStayClearOfTheEdgesAndAreReproducible) {
+    const Heightfield field = make_heightfield(200, 300, 1.0);
+    Footprint footprint;
+    footprint.sigma_um = 10.0;
+    const std::vector<Point2> random = footprint_centres(field, footprint, {50, false, 7});
+    EXPECT_EQ(random.size(), 50u);
+    for (const Point2& p : random) {
+        EXPECT_GE(p.x, 32.5);
+        EXPECT_LE(p.x, 300.0 - 32.5);
+        EXPECT_GE(p.y, 32.5);
+        EXPECT_LE(p.y, 200.0 - 32.5);
+    }
+    const std::vector<Point2> again = footprint_centres(field, footprint, {50, false, 7});
+    EXPECT_EQ(again.front().x, random.front().x);
+    const std::vector<Point2> grid = footprint_centres(field, footprint, parse_footprint_set("grid:3"));
+    ASSERT_EQ(grid.size(), 9u);
+    EXPECT_DOUBLE_EQ(grid[4].x, 150.0);  // the middle cell's centre is the field's
+    EXPECT_DOUBLE_EQ(grid[4].y, 100.0);
+}
+
+TEST(FootprintSet, GridNMeansNByNAndTextReadsBack) {
+    const Heightfield field = make_heightfield(100, 100, 1.0);
+    const Footprint footprint;
+    for (int n = 1; n <= 5; ++n) {
+        const FootprintSet set = parse_footprint_set("grid:" + std::to_string(n));
+        EXPECT_EQ(footprint_centres(field, footprint, set).size(), std::size_t(n * n));
+        EXPECT_EQ(to_string(set), "grid:" + std::to_string(n));
+        EXPECT_EQ(to_string(parse_footprint_set(to_string(set))), to_string(set));
+    }
+    EXPECT_EQ(footprint_centres(field, footprint, parse_footprint_set("grid")).size(), 9u);
+    EXPECT_EQ(footprint_centres(field, footprint, parse_footprint_set("7")).size(), 7u);
+    EXPECT_TRUE(parse_footprint_set("1").single());
+    for (const char* bad : {"0", "grid:0", "grid:x", "lots", "grid3", "-2"})
+        EXPECT_THROW(parse_footprint_set(bad), Error) << bad;
+}
+
+}  // namespace
+}  // namespace glintscope

@@ -1,0 +1,92 @@
+// compute_lobe: dispatch, validation, quantities, option keys, error prefixes and metadata.
+#include <gtest/gtest.h>
+
+#include <regex>
+#include <string>
+
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/lobe/query.hpp"
+
+namespace glintscope {
+namespace {
+
+LobeQuery flat_query() {
+    LobeQuery query;
+    set_heightfield(query, make_heightfield(32, 32, 1.0));
+    query.footprint.centre_um = {16.0, 16.0};
+    query.footprint.sigma_um = 3.0;
+    query.resolution = 16;
+    return query;
+}
+
+std::string error_of(const std::string& method, const LobeQuery& query) {
+    try {
+        compute_lobe(method, query);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(ComputeLobe, UnknownMethodListsTheAvailableOnes) {
+    const std::string message = error_of("raytrace", flat_query());
+    EXPECT_NE(message.find("unknown method 'raytrace'"), std::string::npos) << message;
+    for (const MethodInfo& method : lobe_methods()) EXPECT_NE(message.find(method.name), std::string::npos) << message;
+}
+
+TEST(ComputeLobe, InvalidQueriesFailBeforeTheMethodRuns) {
+    LobeQuery query = flat_query();
+    query.resolution = 2;
+    EXPECT_NE(error_of("fft", query).find("resolution must be between 4 and 8192"), std::string::npos);
+    query = flat_query();
+    query.omega_i = {0.0, 0.0, 2.0};
+    EXPECT_NE(error_of("gabor", query).find("unit vector"), std::string::npos);
+}
+
+TEST(ComputeLobe, UnknownOptionsAndBadValuesNameTheMethodOnce) {
+    LobeQuery query = flat_query();
+    query.method_options["colour"] = "blue";
+    const std::string unknown = error_of("gabor", query);
+    EXPECT_EQ(unknown.rfind("gabor: method 'gabor' has no option 'colour' (options: ", 0), 0u) << unknown;
+    query.method_options = {{"kernels_per_texel", "2.5"}};
+    const std::string bad = error_of("gabor", query);
+    EXPECT_EQ(bad.rfind("gabor: ", 0), 0u) << bad;
+    EXPECT_EQ(bad.find("gabor: ", 1), std::string::npos) << bad;  // prefixed once
+    EXPECT_NE(bad.find("kernels_per_texel"), std::string::npos) << bad;
+}
+
+TEST(ComputeLobe, AMethodRefusesAQuantityItDoesNotAnswer) {
+    LobeQuery query = flat_query();
+    query.quantity = Quantity::ndf;
+    const std::string message = error_of("fft", query);
+    EXPECT_NE(message.find("method 'fft' does not compute ndf"), std::string::npos) << message;
+}
+
+TEST(ComputeLobe, MetadataNamesTheMethodItsReferenceAndTheQuery) {
+    LobeQuery query = flat_query();
+    query.method_options["kernels_per_texel"] = "1";
+    const LobeImage image = compute_lobe("gabor", query);
+    EXPECT_EQ(image.metadata.at("method"), "gabor");
+    EXPECT_EQ(image.metadata.at("method.reference"), lobe_method("gabor").reference);
+    EXPECT_EQ(image.metadata.at("quantity"), "brdf");
+    EXPECT_EQ(image.metadata.at("query.sigma_c"), "3");
+    EXPECT_EQ(image.metadata.at("query.centre"), "16,16");
+    EXPECT_EQ(image.metadata.at("query.option.kernels_per_texel"), "1");
+    EXPECT_EQ(image.metadata.at("query.omega_i"), "0,0,1");
+    EXPECT_EQ(image.metadata.at("heightfield.size"), "32x32");
+    EXPECT_EQ(image.quantity, Quantity::brdf);
+}
+
+TEST(ComputeLobe, EveryMethodHasAReferenceInTheCitationForm) {
+    for (const MethodInfo& method : lobe_methods()) {
+        EXPECT_FALSE(method.description.empty()) << method.name;
+        // "<Author> <Year> eq. N" (or § / Fig.): a bare "eq. 6" would be ambiguous.
+        EXPECT_TRUE(std::regex_search(method.reference, std::regex("^[A-Z][a-z]+ (19|20)[0-9]{2} (eq\\.|§|sec\\.|Fig\\.)")))
+            << method.reference;
+        EXPECT_FALSE(method.quantities.empty()) << method.name;
+    }
+}
+
+}  // namespace
+}  // namespace glintscope

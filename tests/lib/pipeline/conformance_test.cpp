@@ -1,0 +1,120 @@
+// What every method in the table gets tested for, for every quantity it answers: a new method
+// is covered by adding its table line.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/output/lobe_output.hpp"
+#include "glintscope/core/parallel.hpp"
+
+namespace glintscope {
+namespace {
+
+struct Case {
+    MethodInfo method;
+    Quantity quantity;
+};
+
+void PrintTo(const Case& c, std::ostream* os) { *os << c.method.name << " " << to_string(c.quantity); }
+
+std::vector<Case> cases() {
+    std::vector<Case> all;
+    for (const MethodInfo& method : lobe_methods())
+        for (Quantity quantity : method.quantities) all.push_back({method, quantity});
+    return all;
+}
+
+std::string case_name(const testing::TestParamInfo<Case>& info) {
+    return info.param.method.name + "_" + to_string(info.param.quantity);
+}
+
+// The isotropic builtin (Yan 2018 Fig. 8 statistics), shared by every case.
+LobeQuery isotropic_query(Quantity quantity) {
+    static const Heightfield field = generate_builtin("isotropic");
+    LobeQuery query;
+    set_heightfield(query, field);
+    query.quantity = quantity;
+    query.footprint.centre_um = field.centre_um();
+    query.footprint.sigma_um = 10.0;
+    query.omega_i = direction_from_spherical(0.2, 0.3);
+    query.wavelengths_um = {0.45, 0.6};
+    query.resolution = 48;
+    query.supersample = 2;
+    return query;
+}
+
+class MethodConformance : public testing::TestWithParam<Case> {};
+
+TEST_P(MethodConformance, ImageShapeDiskAndValues) {
+    const LobeQuery query = isotropic_query(GetParam().quantity);
+    const LobeImage image = compute_lobe(GetParam().method.name, query);
+    ASSERT_EQ(image.resolution, query.resolution);
+    ASSERT_EQ(image.wavelengths_um, query.wavelengths_um);
+    ASSERT_EQ(image.values.size(), image.layers() * 48 * 48);
+    EXPECT_EQ(image.quantity, query.quantity);
+    for (std::size_t layer = 0; layer < image.layers(); ++layer)
+        for (int row = 0; row < 48; ++row)
+            for (int col = 0; col < 48; ++col) {
+                const float value = image.at(layer, row, col);
+                ASSERT_TRUE(std::isfinite(value));
+                ASSERT_GE(value, 0.0f);
+                if (!inside_unit_disk(disk_pixel_point(row, col, 48))) {
+                    ASSERT_EQ(value, 0.0f) << row << "," << col;
+                }
+            }
+}
+
+// NDFs integrate to 1 on the projected disk; BRDF albedos of this rough, mostly non-grazing
+// surface at 11.5° incidence lie just below 1 (F = 1; a little light leaves below the horizon).
+TEST_P(MethodConformance, NormalisationOnTheIsotropicBuiltin) {
+    const LobeImage image = compute_lobe(GetParam().method.name, isotropic_query(GetParam().quantity));
+    for (const WavelengthSummary& summary : summarize_lobe(image)) {
+        if (GetParam().quantity == Quantity::ndf)
+            EXPECT_NEAR(summary.disk_sum, 1.0, 0.02) << summary.wavelength_um;
+        else
+            EXPECT_TRUE(summary.disk_sum > 0.9 && summary.disk_sum < 1.02) << summary.disk_sum;
+    }
+}
+
+TEST_P(MethodConformance, MetadataRecordsMethodReferenceAndWhatDoesNotApply) {
+    const MethodInfo& method = GetParam().method;
+    const LobeImage image = compute_lobe(method.name, isotropic_query(GetParam().quantity));
+    EXPECT_EQ(image.metadata.at("method"), method.name);
+    EXPECT_EQ(image.metadata.at("method.reference"), method.reference);
+    EXPECT_EQ(image.metadata.at("quantity"), to_string(GetParam().quantity));
+    EXPECT_EQ(image.metadata.at("query.res"), "48");
+    EXPECT_EQ(image.metadata.count("not_applicable"), method.ignored.empty() ? 0u : 1u);
+}
+
+TEST_P(MethodConformance, UnknownOptionIsRejectedWithTheMethodsName) {
+    LobeQuery query = isotropic_query(GetParam().quantity);
+    query.method_options["no_such_option"] = "1";
+    try {
+        compute_lobe(GetParam().method.name, query);
+        FAIL() << "accepted an unknown option";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(GetParam().method.name + ": ", 0), 0u) << e.what();
+        EXPECT_NE(std::string(e.what()).find("no_such_option"), std::string::npos) << e.what();
+    }
+}
+
+TEST_P(MethodConformance, ResultsDoNotDependOnTheThreadCount) {
+    const LobeQuery query = isotropic_query(GetParam().quantity);
+    set_thread_count(1);
+    const LobeImage one = compute_lobe(GetParam().method.name, query);
+    set_thread_count(4);
+    const LobeImage four = compute_lobe(GetParam().method.name, query);
+    set_thread_count(0);
+    EXPECT_EQ(one.values, four.values);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodConformance, testing::ValuesIn(cases()), case_name);
+
+}  // namespace
+}  // namespace glintscope

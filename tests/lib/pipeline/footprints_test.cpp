@@ -1,0 +1,64 @@
+// The pipeline averages over the query's footprints: the mean of the single-footprint images.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/lobe/compare.hpp"
+#include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "mean_lobe.hpp"
+
+namespace glintscope {
+namespace {
+
+LobeQuery brushed_ndf_query() {
+    LobeQuery query = make_query({{"heightfield", "builtin:brushed"}, {"quantity", "ndf"}, {"res", "64"}});
+    return query;
+}
+
+TEST(Footprints, AGridOfThreeIsTheMeanOfItsNineFootprintsAndDiffersFromOne) {
+    LobeQuery query = brushed_ndf_query();
+    query.footprints = parse_footprint_set("grid:3");
+    const LobeImage averaged = compute_lobe("pndf", query);
+    const std::vector<Point2> centres = footprint_centres(*query.field, query.footprint, query.footprints);
+    ASSERT_EQ(centres.size(), 9u);
+    const LobeImage expected = testing::mean_of_single_lobes("pndf", query, centres);
+    for (std::size_t i = 0; i < expected.values.size(); ++i)
+        EXPECT_NEAR(averaged.values[i], expected.values[i], 1e-6 * (1.0 + expected.values[i]));
+    EXPECT_EQ(averaged.metadata.at("footprints.count"), "9");
+    EXPECT_EQ(averaged.metadata.at("query.footprints"), "grid:3");
+
+    LobeQuery single = brushed_ndf_query();
+    const LobeImage one = compute_lobe("pndf", single);
+    EXPECT_GT(compare_lobes(averaged, one).at(0).relative_l2, 0.05);
+}
+
+TEST(Footprints, RandomCentresOfAWaveLobeAverageTheirLobes) {
+    LobeQuery query;
+    Heightfield field = make_heightfield(64, 64, 1.0);
+    for (int r = 0; r < 64; ++r)
+        for (int c = 0; c < 64; ++c) field.at(r, c) = float(0.3 * std::sin(0.5 * c) + 0.2 * std::cos(0.4 * r));
+    field.periodic = true;
+    set_heightfield(query, field);
+    query.footprint.sigma_um = 4.0;
+    query.resolution = 24;
+    query.footprints = parse_footprint_set("3");
+    const LobeImage mean = compute_lobe("fft", query);
+    const LobeImage expected =
+        testing::mean_of_single_lobes("fft", query, footprint_centres(*query.field, query.footprint, query.footprints));
+    for (std::size_t i = 0; i < expected.values.size(); ++i)
+        EXPECT_NEAR(mean.values[i], expected.values[i], 1e-6 * (1.0 + expected.values[i]));
+    EXPECT_EQ(mean.metadata.at("footprints.count"), "3");
+}
+
+TEST(Footprints, TheRecordedQueryRerunsTheAverageExactly) {
+    LobeQuery query = brushed_ndf_query();
+    query.footprints = parse_footprint_set("grid:2");
+    const LobeImage first = compute_lobe("pndf", query);
+    const LobeImage again = compute_lobe("pndf", make_query(query_text_from_metadata(first.metadata)));
+    EXPECT_EQ(again.values, first.values);
+}
+
+}  // namespace
+}  // namespace glintscope
