@@ -124,8 +124,6 @@ int supersample_for(const MethodInfo& method, const LobeQuery& query) {
 
 std::string rounded(double value) { return shortest_text(std::round(value * 1e5) / 1e5); }
 
-}  // namespace
-
 void check_footprint(const MethodInfo& method, const Footprint& footprint) {
     if (footprint.shape != FootprintShape::whole || method.whole_field) return;
     throw Error("method '" + method.name + "' needs a finite footprint, not the whole field (methods that take it: " +
@@ -144,6 +142,8 @@ void check_option_keys(const MethodInfo& method, const LobeQuery& query) {
                     (keys.empty() ? "none" : join(keys)) + ")");
     }
 }
+
+}  // namespace
 
 std::vector<MethodInfo> lobe_methods() {
     std::vector<MethodInfo> infos;
