@@ -197,6 +197,15 @@ const std::vector<KeyBinding>& bindings() {
           ""},
          [](LobeQuery& q, const std::string& t) { q.supersample = t == "auto" ? 0 : parse_int(t); },
          [](const LobeQuery& q) { return q.supersample == 0 ? std::string("auto") : std::to_string(q.supersample); }},
+        {{"memory", "GB",
+          "memory budget of a method's working grids in GB, e.g. the FFT footprint grid of a large sigma_c "
+          "(default 4; over it the FFT lowers its oversampling, then refuses)",
+          ""},
+         [](LobeQuery& q, const std::string& t) { q.memory_budget_gb = parse_number(t); },
+         [](const LobeQuery& q) -> std::optional<std::string> {
+             if (q.memory_budget_gb == 4.0) return std::nullopt;
+             return shortest_text(q.memory_budget_gb);
+         }},
         {{"footprints", "N|grid|grid:N",
           "average over footprints: N seeded random centres, grid (3 x 3) or grid:N (N x N) spread over the field "
           "(large-area NDFs, expected lobes; default 1: the footprint alone)",

@@ -207,6 +207,9 @@ LobeRun run_lobe(const std::string& method, const LobeQuery& query, const RunPro
     run.image.metadata["run.seconds"] = shortest_text(
         std::round(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() * 1e3) / 1e3);
     run.notes = plan.notes;
+    // What a method chose on its own and wants said (e.g. the FFT's grid within the memory budget).
+    for (const auto& [key, value] : run.image.metadata)
+        if (key.starts_with("note.")) run.notes.push_back(value);
     run.warnings = query_warnings(method, plan.query);
     for (std::string& warning : image_warnings(run.image)) run.warnings.push_back(std::move(warning));
     return run;
