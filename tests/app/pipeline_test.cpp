@@ -5,6 +5,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 
 #include "cli_runner.hpp"
@@ -86,6 +88,35 @@ TEST(Pipeline, AnAveragedNdfRerunsExactlyFromItsRecord) {
     const ExrImage averaged = read_exr(directory.file("n.exr"));
     EXPECT_EQ(channel(read_exr(directory.file("again.exr")), "D"), channel(averaged, "D"));
     EXPECT_NE(channel(read_exr(directory.file("one.exr")), "D"), channel(averaged, "D"));
+}
+
+// --from re-runs on the data it recorded: a heightfield whose bytes changed is refused in one line
+// (unless told), and a relative path is read relative to the record, from any folder.
+TEST(Pipeline, FromChecksTheRecordedHeightfieldAndFindsItBesideTheRecord) {
+    TemporaryDirectory directory;
+    const auto generated = testing::run_cli({"generate", "gaussian", "--size", "64", "--seed", "3", "-o",
+                                             directory.file("rough.exr")});
+    ASSERT_EQ(generated.exit_code, 0) << generated.output;
+    const std::string in_directory = "cd '" + directory.path().string() + "' && " + testing::executable();
+    const auto first = testing::run_shell(in_directory + " lobe rough.exr --periodic yes --res 32 -o first.exr");
+    ASSERT_EQ(first.exit_code, 0) << first.output;
+    const auto elsewhere = testing::run_shell("cd / && " + testing::executable() + " lobe --from '" +
+                                              directory.file("first.exr") + "' -o '" + directory.file("again.exr") + "'");
+    ASSERT_EQ(elsewhere.exit_code, 0) << elsewhere.output;
+    EXPECT_EQ(channel(read_exr(directory.file("again.exr")), "Y"), channel(read_exr(directory.file("first.exr")), "Y"));
+
+    const auto changed = testing::run_cli({"generate", "gaussian", "--size", "64", "--seed", "4", "-o",
+                                           directory.file("rough.exr")});
+    ASSERT_EQ(changed.exit_code, 0) << changed.output;
+    const auto refused = testing::run_cli({"lobe", "--from", directory.file("first.exr"), "-o", directory.file("x.exr")});
+    EXPECT_NE(refused.exit_code, 0);
+    EXPECT_NE(refused.output.find("has changed since"), std::string::npos) << refused.output;
+    EXPECT_EQ(std::count(refused.output.begin(), refused.output.end(), '\n'), 1) << refused.output;
+    EXPECT_FALSE(std::filesystem::exists(directory.file("x.exr")));
+    const auto allowed = testing::run_cli({"lobe", "--from", directory.file("first.exr"), "--allow-changed-heightfield",
+                                           "-o", directory.file("x.exr")});
+    EXPECT_EQ(allowed.exit_code, 0) << allowed.output;
+    EXPECT_NE(channel(read_exr(directory.file("x.exr")), "Y"), channel(read_exr(directory.file("first.exr")), "Y"));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -301,6 +302,31 @@ LobeQuery make_query(const QueryText& text) {
     }
     if (!find_value(text, "centre")) query.footprint.centre_um = query.field->centre_um();
     return query;
+}
+
+RecordedRun recorded_run(const std::string& record_path, const QueryText& overrides, bool allow_changed_heightfield) {
+    const Provenance recorded = read_output_metadata(record_path);
+    RecordedRun run;
+    if (recorded.count("method")) run.method = recorded.at("method");
+    QueryText text = query_text_from_metadata(recorded);
+    // A relative heightfield path was written relative to where the record was made; read it
+    // relative to the record, so that a figure's panels re-run from anywhere.
+    for (auto& [key, value] : text)
+        if (key == "heightfield" && !value.starts_with("builtin:") && std::filesystem::path(value).is_relative()) {
+            const std::filesystem::path beside = std::filesystem::path(record_path).parent_path() / value;
+            if (std::filesystem::exists(beside)) value = beside.string();
+        }
+    const bool same_heightfield = std::none_of(overrides.begin(), overrides.end(), [](const auto& entry) {
+        return entry.first == "heightfield";
+    });
+    run.query = make_query(merge_query_text(text, overrides));
+    const auto md5 = recorded.find("heightfield.md5");
+    if (same_heightfield && md5 != recorded.end() && !allow_changed_heightfield &&
+        md5->second != run.query.source.content_md5)
+        throw Error("the heightfield '" + run.query.source.argument + "' has changed since '" + record_path +
+                    "' was written (MD5 " + run.query.source.content_md5 + ", recorded " + md5->second +
+                    "); re-run on it anyway with --allow-changed-heightfield");
+    return run;
 }
 
 QueryText query_text(const LobeQuery& query) {
