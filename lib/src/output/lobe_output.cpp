@@ -327,35 +327,52 @@ void write_lobe(const LobeImage& lobe, const std::string& path, const LobeOutput
     throw Error("cannot write lobe '" + path + "': unsupported format (use .exr, .png or .json)");
 }
 
-LobeImage load_lobe_exr(const std::string& path) {
+LobeExrLayers load_lobe_exr_layers(const std::string& path) {
     auto input = OIIO::ImageInput::open(path);
     if (!input) throw Error("cannot read lobe '" + path + "': " + one_line(OIIO::geterror()));
     const OIIO::ImageSpec& spec = input->spec();
     if (spec.width != spec.height || spec.width < 1 || spec.depth > 1)
         throw Error("cannot read lobe '" + path + "': the image is not square");
+    // No lobe the tool writes is larger (query.cpp: N ≤ 8192, 4 GB of values, plus R, G, B): a
+    // header claiming more is refused before anything is allocated.
+    if (spec.width > 8192 || 4.0 * double(spec.width) * spec.height * spec.nchannels > 5e9)
+        throw Error("cannot read lobe '" + path + "': its header claims " + std::to_string(spec.width) + "² pixels x " +
+                    std::to_string(spec.nchannels) + " channels, more than any lobe glintscope writes");
     const std::string wavelengths_key = std::string(attribute_prefix) + "output.wavelengths_um";
     const OIIO::ParamValue* wavelengths = spec.find_attribute(wavelengths_key, OIIO::TypeDesc::STRING);
     if (!wavelengths) throw Error("cannot read lobe '" + path + "': no " + wavelengths_key + " attribute");
-
     const OIIO::ParamValue* quantity =
         spec.find_attribute(std::string(attribute_prefix) + "output.quantity", OIIO::TypeDesc::STRING);
-    LobeImage lobe = make_lobe_image(spec.width, parse_list(wavelengths->get_string(), path),
-                                     quantity ? parse_quantity(quantity->get_string()) : Quantity::brdf);
+
+    LobeExrLayers lobe;
+    lobe.resolution = spec.width;
+    lobe.quantity = quantity ? parse_quantity(quantity->get_string()) : Quantity::brdf;
+    lobe.wavelengths_um = parse_list(wavelengths->get_string(), path);
     std::vector<int> channels;
     if (lobe.wavelengths_um.size() == 1) {
         channels.push_back(spec.channelindex(labels(lobe.quantity).channel));
     } else {
         for (double lambda : lobe.wavelengths_um) channels.push_back(spec.channelindex(spectral_channel_name(lambda)));
     }
-    for (int channel : channels)
-        if (channel < 0)
-            throw Error("cannot read lobe '" + path + "': it has no per-wavelength channels (" +
-                        (lobe.wavelengths_um.size() == 1 ? labels(lobe.quantity).channel : "S0.<nm>") +
-                        "); write spectral lobes with spectral channels to read them back");
+    if (std::find(channels.begin(), channels.end(), -1) == channels.end()) {
+        for (double lambda : lobe.wavelengths_um) lobe.names.push_back(shortest_text(lambda) + " um");
+    } else if (lobe.wavelengths_um.size() > 1) {  // a spectral lobe written as R, G, B only
+        lobe.colour = true;
+        lobe.names = {"R", "G", "B"};
+        const auto recorded = [&](const std::string& key) {
+            return std::string(spec.get_string_attribute(std::string(attribute_prefix) + key));
+        };
+        lobe.colour_encoding = recorded("output.colour_space") + " under " + recorded("output.illuminant");
+        channels = {spec.channelindex("R"), spec.channelindex("G"), spec.channelindex("B")};
+    }
+    if (std::find(channels.begin(), channels.end(), -1) != channels.end())
+        throw Error("cannot read lobe '" + path + "': it has neither per-wavelength channels (" +
+                    (lobe.wavelengths_um.size() == 1 ? labels(lobe.quantity).channel : "S0.<nm>") + ") nor R, G, B");
     const std::size_t pixels = std::size_t(spec.width) * spec.height;
     std::vector<float> all(pixels * spec.nchannels);
     if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
         throw Error("cannot read lobe '" + path + "': " + one_line(input->geterror()));
+    lobe.values.resize(pixels * channels.size());
     for (std::size_t layer = 0; layer < channels.size(); ++layer)
         for (std::size_t i = 0; i < pixels; ++i) lobe.values[layer * pixels + i] = all[i * spec.nchannels + channels[layer]];
     for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
@@ -364,6 +381,17 @@ LobeImage load_lobe_exr(const std::string& path) {
         const std::string key = name.substr(attribute_prefix.size());
         if (!key.starts_with(output_prefix)) lobe.metadata[key] = attribute.get_string();
     }
+    return lobe;
+}
+
+LobeImage load_lobe_exr(const std::string& path) {
+    LobeExrLayers layers = load_lobe_exr_layers(path);
+    if (layers.colour)
+        throw Error("cannot read lobe '" + path + "': it has no per-wavelength channels (S0.<nm>), only R, G, B; "
+                    "write spectral lobes with spectral channels to read them back");
+    LobeImage lobe = make_lobe_image(layers.resolution, layers.wavelengths_um, layers.quantity);
+    lobe.values = std::move(layers.values);
+    lobe.metadata = std::move(layers.metadata);
     return lobe;
 }
 
