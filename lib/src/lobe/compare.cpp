@@ -35,11 +35,6 @@ double log_rms_error(std::span<const float> test, std::span<const float> referen
     return count ? std::sqrt(sum / count) : 0.0;
 }
 
-std::span<const float> layer_of(const LobeImage& image, std::size_t layer) {
-    const std::size_t pixels = std::size_t(image.resolution) * image.resolution;
-    return std::span<const float>(image.values).subspan(layer * pixels, pixels);
-}
-
 }  // namespace
 
 LayerComparison compare_layer(std::span<const float> test, std::span<const float> reference, int n) {
@@ -59,8 +54,6 @@ LayerComparison compare_layer(std::span<const float> test, std::span<const float
             const double r = reference[i];
             difference2 += (t - r) * (t - r);
             reference2 += r * r;
-            result.test_sum += t;
-            result.reference_sum += r;
             if (std::fabs(t - r) > result.max_abs_difference) {
                 result.max_abs_difference = std::fabs(t - r);
                 result.max_row = row;
@@ -70,8 +63,8 @@ LayerComparison compare_layer(std::span<const float> test, std::span<const float
             if (r > reference_peak) reference_peak = float(r), reference_peak_index = i;
         }
     result.relative_l2 = reference2 > 0.0 ? std::sqrt(difference2 / reference2) : std::sqrt(difference2);
-    result.test_sum *= disk_pixel_area(n);  // Σ v (2/N)² (image.hpp)
-    result.reference_sum *= disk_pixel_area(n);
+    result.test_sum = disk_sum(test, n);
+    result.reference_sum = disk_sum(reference, n);
     result.peak_offset_pixels = std::hypot(double(test_peak_index / n) - double(reference_peak_index / n),
                                            double(test_peak_index % n) - double(reference_peak_index % n));
     const float test_at_peak = test[reference_peak_index];
@@ -84,7 +77,7 @@ std::vector<LayerComparison> compare_lobes(const LobeImage& test, const LobeImag
     check_comparable(test, reference);
     std::vector<LayerComparison> layers;
     for (std::size_t layer = 0; layer < test.layers(); ++layer) {
-        layers.push_back(compare_layer(layer_of(test, layer), layer_of(reference, layer), test.resolution));
+        layers.push_back(compare_layer(layer_values(test, layer), layer_values(reference, layer), test.resolution));
         layers.back().wavelength_um = test.wavelengths_um[layer];
     }
     return layers;

@@ -153,13 +153,11 @@ std::vector<WavelengthSummary> summarize_lobe(const LobeImage& lobe) {
         summary.wavelength_um = lobe.wavelengths_um[layer];
         summary.peak_value = -std::numeric_limits<float>::infinity();
         summary.peak_row = summary.peak_col = n / 2;  // kept only if no finite value lies in the disk
-        double total = 0.0;
         for (int row = 0; row < n; ++row)
             for (int col = 0; col < n; ++col) {
                 const DiskPoint p = disk_pixel_point(row, col, n);
                 const float value = lobe.at(layer, row, col);
                 if (!inside_unit_disk(p) || !std::isfinite(value)) continue;
-                total += value;
                 if (value > summary.peak_value) {
                     summary.peak_value = value;
                     summary.peak_row = row;
@@ -169,7 +167,7 @@ std::vector<WavelengthSummary> summarize_lobe(const LobeImage& lobe) {
         if (!std::isfinite(summary.peak_value)) summary.peak_value = 0.0f;
         const DiskPoint p = disk_pixel_point(summary.peak_row, summary.peak_col, n);
         summary.peak_direction = direction_from_disk(p.x, p.y);
-        summary.disk_sum = total * disk_pixel_area(n);  // conventions.md: Σ f_r (2/N)² is ∫ f_r cos θ_o dω_o
+        summary.disk_sum = disk_sum(lobe, layer);  // conventions.md: Σ f_r (2/N)² is ∫ f_r cos θ_o dω_o
         summaries.push_back(summary);
     }
     return summaries;

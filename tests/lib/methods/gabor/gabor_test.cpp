@@ -137,9 +137,7 @@ double flat_mirror_albedo(DiffractionModel model, double sigma_um, int resolutio
     query.supersample = supersample;
     query.model = model;
     const LobeImage image = compute_lobe("gabor", query);
-    double albedo = 0.0;
-    for (const float value : image.values) albedo += value * disk_pixel_area(query.resolution);
-    return albedo / fresnel_reflectance("Al", 0.5, query.omega_i.z);
+    return disk_sum(image) / fresnel_reflectance("Al", 0.5, query.omega_i.z);
 }
 
 TEST(GaborLobe, FlatMirrorReflectsFresnelReflectance) {
