@@ -168,7 +168,7 @@ DisplayExposure signed_exposure(const LobeImage& lobe) {
     return exposure;
 }
 
-// Moreland's cool-warm diverging map (blue, grey, red in sRGB) at t in [−1, 1].
+// Moreland 2009's cool-warm diverging map (blue, grey, red in sRGB) at t in [−1, 1].
 Colour diverging(double t) {
     constexpr Colour blue{0.230f, 0.299f, 0.754f}, middle{0.865f, 0.865f, 0.865f}, red{0.706f, 0.016f, 0.150f};
     const float a = float(std::min(1.0, std::fabs(t)));
