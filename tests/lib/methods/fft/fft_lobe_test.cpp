@@ -16,6 +16,8 @@
 #include "glintscope/optics/material.hpp"
 #include "glintscope/core/parallel.hpp"
 
+#include "lobe_queries.hpp"
+
 namespace glintscope {
 namespace {
 
@@ -324,12 +326,7 @@ TEST(FftLobe, ResultDoesNotDependOnTheThreadCount) {
     query.model = DiffractionModel::kirchhoff;
     query.omega_i = kOblique;
     query.supersample = 2;
-    set_thread_count(1);
-    const LobeImage single = compute_lobe("fft", query);
-    set_thread_count(2);
-    const LobeImage dual = compute_lobe("fft", query);
-    set_thread_count(0);
-    EXPECT_EQ(single.values, dual.values);
+    EXPECT_EQ(testing::compute_with_threads("fft", query, 1).values, testing::compute_with_threads("fft", query, 2).values);
 }
 
 TEST(FftLobe, RejectsBadOptions) {

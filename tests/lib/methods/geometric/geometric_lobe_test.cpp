@@ -14,17 +14,14 @@
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/core/text_format.hpp"
 
+#include "sampled_field.hpp"
+#include "lobe_queries.hpp"
+
 namespace glintscope {
 namespace {
 
 Heightfield plane(double a, double b) {
-    Heightfield field = make_heightfield(64, 64, 1.0);
-    for (int r = 0; r < 64; ++r)
-        for (int c = 0; c < 64; ++c) {
-            const Point2 s = sample_position(field, r, c);
-            field.at(r, c) = static_cast<float>(a * s.x + b * s.y);
-        }
-    return field;
+    return testing::sampled_field(64, 64, 1.0, [=](double x, double y) { return a * x + b * y; });
 }
 
 // A Gaussian random field (Stam's smooth C1) with rms slope 0.1 per axis and T = 10 µm.
@@ -158,12 +155,8 @@ TEST(GeometricLobe, SameBitsForOneAndFourThreads) {
     query.omega_i = direction_from_spherical(0.4, 1.0);
     query.supersample = 2;
     query.method_options["shadowing"] = "smith";
-    set_thread_count(1);
-    const LobeImage one = compute_lobe("geometric", query);
-    set_thread_count(4);
-    const LobeImage four = compute_lobe("geometric", query);
-    set_thread_count(0);
-    EXPECT_EQ(one.values, four.values);
+    EXPECT_EQ(testing::compute_with_threads("geometric", query, 1).values,
+              testing::compute_with_threads("geometric", query, 4).values);
 }
 
 // Both images blurred by a Gaussian of one pixel (separable, truncated at 4 px, zero outside).
