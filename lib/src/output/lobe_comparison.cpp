@@ -143,7 +143,7 @@ std::string comparison_json(const LobeFileComparison& comparison) {
                                    {"b", input_json(comparison.reference_path, comparison.reference)},
                                    {"sum", labels(comparison.test.quantity).sum_name + ": sum of value (2/N)^2 over the disk"},
                                    {"layers", layers}};
-    return report.dump(2) + "\n";
+    return report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";  // paths need not be UTF-8
 }
 
 FigureLayout write_comparison_figure(const LobeFileComparison& comparison, const std::string& path) {
