@@ -78,26 +78,17 @@ void print_summary(const std::vector<ValidationSummary>& summary) {
                     100.0 * s.worst_peak_error, s.mean_energy_ratio);
 }
 
-// test | reference | test − reference, the first two exposed alike, the difference on its own
-// symmetric scale (one wavelength; for a spectrum the difference is left out).
+// test | reference | test − reference (figure.hpp: write_difference_figure).
 void write_pair(const std::string& directory, std::size_t index, const ValidationPlan& plan, const ValidationRow& row,
                 const LobeImage& test, const LobeImage& reference) {
-    const LobeImage difference = difference_image(test, reference);
-    Figure figure;
     char title[160];
     std::snprintf(title, sizeof title, "%s against %s: centre %.1f,%.1f um, %s%s, relative L2 %.2f%%",
                   plan.test_method.c_str(), plan.reference_method.c_str(), row.centre_um.x, row.centre_um.y,
                   to_string(row.model).c_str(), row.kernels_per_texel ? (", K = " + std::to_string(row.kernels_per_texel)).c_str() : "",
                   100.0 * row.comparison.relative_l2);
-    figure.title = title;
-    figure.column_labels = {plan.test_method, plan.reference_method};
-    figure.cells = {{&test, &reference}};
-    if (test.layers() == 1) {
-        figure.column_labels.push_back("difference");
-        figure.cells[0].push_back(&difference);
-    }
-    const LobeOutputOptions output;
-    write_figure(figure, directory + "/pair-" + std::to_string(index) + ".png", output);
+    const LobeOutputOptions options;
+    write_difference_figure(test, reference, {title, "", plan.test_method, plan.reference_method, "difference"},
+                            directory + "/pair-" + std::to_string(index) + ".png", options);
 }
 
 void run(const ValidateSettings& settings) {

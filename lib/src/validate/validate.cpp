@@ -48,17 +48,6 @@ LobeQuery single_footprint(const ValidationPlan& plan, Point2 centre) {
 
 }  // namespace
 
-LobeImage difference_image(const LobeImage& test, const LobeImage& reference) {
-    compare_lobes(test, reference);  // checks that they are comparable
-    LobeImage difference = make_lobe_image(test.resolution, test.wavelengths_um, test.quantity);
-    for (std::size_t i = 0; i < difference.values.size(); ++i) difference.values[i] = test.values[i] - reference.values[i];
-    difference.metadata = test.metadata;
-    difference.metadata["method"] = test.metadata.count("method") ? test.metadata.at("method") + " - " +
-                                                                        reference.metadata.at("method")
-                                                                  : "difference";
-    return difference;
-}
-
 std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress,
                                           const PairCallback& pair) {
     const std::vector<DiffractionModel> models = plan.models.empty() ? std::vector{plan.base.model} : plan.models;

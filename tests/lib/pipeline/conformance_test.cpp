@@ -13,6 +13,8 @@
 #include "glintscope/output/lobe_output.hpp"
 #include "glintscope/core/parallel.hpp"
 
+#include "lobe_queries.hpp"
+
 namespace glintscope {
 namespace {
 
@@ -30,7 +32,7 @@ std::vector<Case> cases() {
     return all;
 }
 
-std::string case_name(const testing::TestParamInfo<Case>& info) {
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
     return info.param.method.name + "_" + to_string(info.param.quantity);
 }
 
@@ -49,7 +51,7 @@ LobeQuery isotropic_query(Quantity quantity) {
     return query;
 }
 
-class MethodConformance : public testing::TestWithParam<Case> {};
+class MethodConformance : public ::testing::TestWithParam<Case> {};
 
 TEST_P(MethodConformance, ImageShapeDiskAndValues) {
     const LobeQuery query = isotropic_query(GetParam().quantity);
@@ -106,15 +108,11 @@ TEST_P(MethodConformance, UnknownOptionIsRejectedWithTheMethodsName) {
 
 TEST_P(MethodConformance, ResultsDoNotDependOnTheThreadCount) {
     const LobeQuery query = isotropic_query(GetParam().quantity);
-    set_thread_count(1);
-    const LobeImage one = compute_lobe(GetParam().method.name, query);
-    set_thread_count(4);
-    const LobeImage four = compute_lobe(GetParam().method.name, query);
-    set_thread_count(0);
-    EXPECT_EQ(one.values, four.values);
+    EXPECT_EQ(testing::compute_with_threads(GetParam().method.name, query, 1).values,
+              testing::compute_with_threads(GetParam().method.name, query, 4).values);
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodConformance, testing::ValuesIn(cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodConformance, ::testing::ValuesIn(cases()), case_name);
 
 }  // namespace
 }  // namespace glintscope

@@ -41,9 +41,6 @@ using PairCallback = std::function<void(const ValidationRow& row, const LobeImag
 std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress = {},
                                           const PairCallback& pair = {});
 
-// test − reference, per pixel and layer (a signed image: figure.hpp draws it on a diverging scale).
-LobeImage difference_image(const LobeImage& test, const LobeImage& reference);
-
 // Convergence of the two methods at the plan's first centre, model and wavelength:
 // - Gabor against the FFT ground truth as the kernels per texel K go 1, 2, 3, 4;
 // - the FFT against itself at a quarter of its automatic step, as the step goes from twice the
