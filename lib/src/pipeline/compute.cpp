@@ -126,17 +126,9 @@ int supersample_for(const MethodInfo& method, const LobeQuery& query) {
 
 constexpr double kEnergyTolerance = 0.02;
 
-// Σ v (2/N)² of one layer: the albedo of a BRDF, the normalisation of an NDF.
-double layer_sum(const LobeImage& image, std::size_t layer) {
-    const std::size_t pixels = std::size_t(image.resolution) * image.resolution;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < pixels; ++i) sum += image.values[layer * pixels + i];
-    return sum * disk_pixel_area(image.resolution);
-}
-
 // Σ f_r/F(ω_i·h) (2/N)² of one layer: the albedo the lobe would have with F = 1.
 double reflected_fraction(const LobeQuery& query, const LobeImage& image, std::size_t layer) {
-    if (query.material.name.empty()) return layer_sum(image, layer);
+    if (query.material.name.empty()) return disk_sum(image, layer);
     const ComplexIndex eta = complex_refractive_index(query.material.name, image.wavelengths_um[layer]);
     const int n = image.resolution;
     double sum = 0.0;
@@ -295,7 +287,7 @@ std::vector<std::string> query_warnings(const std::string& method, const LobeQue
 std::vector<std::string> image_warnings(const std::string& method, const LobeQuery& query, const LobeImage& image) {
     std::vector<std::string> warnings;
     for (std::size_t layer = 0; layer < image.layers(); ++layer) {
-        const double sum = layer_sum(image, layer);
+        const double sum = disk_sum(image, layer);
         const double lambda = image.wavelengths_um[layer];
         const std::string at = "at " + shortest_text(lambda) + " um";
         if (image.quantity == Quantity::brdf) {
