@@ -7,6 +7,7 @@
 
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/io/heightfield_io.hpp"
+#include "glintscope/surface/areal_parameters.hpp"
 #include "glintscope/surface/statistics.hpp"
 
 namespace {
@@ -49,5 +50,13 @@ void BM_LoadAndStatistics8192(benchmark::State& state) {
     std::filesystem::remove(path);
 }
 BENCHMARK(BM_LoadAndStatistics8192)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
+
+// ISO 25178-2 parameters alone (the 2-D autocorrelation, rays and angular spectrum dominate).
+void BM_ArealParameters8192(benchmark::State& state) {
+    Heightfield field = glintscope::generate(isotropic_8192());
+    field.periodic = false;  // as a measured scan: the zero-padded autocorrelation
+    for (auto _ : state) benchmark::DoNotOptimize(glintscope::compute_areal_parameters(field));
+}
+BENCHMARK(BM_ArealParameters8192)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
 
 }  // namespace

@@ -373,44 +373,73 @@ void spatial_parameters(const Heightfield& field, double mean, double dx, double
 
 // ---- texture direction ----
 
+// Tile origins along an axis of n samples: whole tiles from 0, and one more ending at n when
+// they do not cover it.
+std::vector<int> tile_starts(int n, int tile) {
+    std::vector<int> starts;
+    for (int start = 0; start + tile <= n; start += tile) starts.push_back(start);
+    if (starts.back() + tile < n) starts.push_back(n - tile);
+    return starts;
+}
+
+// The angular power spectrum, from the power spectra of tiles of at most kSpectrumTile² samples
+// averaged (Welch's method: the binning then runs once over one tile's frequencies, and the
+// average is smoother than one large periodogram). Each tile is Hann-windowed so that its
+// borders do not paint a cross on the spectrum, except a tile that is a whole periodic field.
+constexpr int kSpectrumTile = 1024;
+
 double texture_direction_deg(const Heightfield& field, double mean, double dx, double dy) {
-    const int rows = field.rows, cols = field.cols;
-    // A Hann window keeps a non-periodic field's borders from painting a cross on the spectrum.
+    const int rows = std::min(field.rows, kSpectrumTile), cols = std::min(field.cols, kSpectrumTile);
+    const bool whole_tile = field.periodic && rows == field.rows && cols == field.cols;
     std::vector<float> window_x(cols, 1.0f), window_y(rows, 1.0f);
-    if (!field.periodic) {
+    if (!whole_tile) {
         for (int c = 0; c < cols; ++c) window_x[c] = static_cast<float>(std::pow(std::sin(pi * (c + 0.5) / cols), 2));
         for (int r = 0; r < rows; ++r) window_y[r] = static_cast<float>(std::pow(std::sin(pi * (r + 0.5) / rows), 2));
     }
-    const std::size_t blocks = (static_cast<std::size_t>(cols) / 2 + 1 + kColumnsPerBlock - 1) / kColumnsPerBlock;
-    std::vector<std::array<double, kAngularBins>> partial(blocks);
-    for (auto& bins : partial) bins.fill(0.0);
-    forward_2d(
-        rows, cols, rows,
-        [&](int r, float* out) {
-            for (int c = 0; c < cols; ++c) {
-                const float h = field.at(r, c);
-                out[c] = std::isnan(h) ? 0.0f : static_cast<float>(h - mean) * window_x[c] * window_y[r];
-            }
-        },
-        [&](std::size_t k, fftwf_complex* column, int n, std::size_t block) {
-            // Each k > 0 below the Nyquist column also stands for its mirror −k.
-            const double weight = (k == 0 || 2 * k == static_cast<std::size_t>(cols)) ? 1.0 : 2.0;
-            const double u = static_cast<double>(k) / (0.5 * cols);
-            for (int j = 0; j < n; ++j) {
-                const int row_frequency = j <= n / 2 ? j : j - n;
-                const double v = row_frequency / (0.5 * n);
-                if ((k == 0 && row_frequency == 0) || u * u + v * v > 1.0) continue;
-                const double fx = static_cast<double>(k) / (cols * dx);
-                const double fy = -row_frequency / (n * dy);  // rows run towards −y
-                double angle = std::atan2(fy, fx) * 180.0 / pi;
-                if (angle < 0.0) angle += 180.0;
-                const int bin = static_cast<int>(std::lround(angle)) % kAngularBins;
-                partial[block][bin] += weight * (double(column[j][0]) * column[j][0] + double(column[j][1]) * column[j][1]);
-            }
-        });
+    const int bins_x = cols / 2 + 1;
+    std::vector<double> power(static_cast<std::size_t>(bins_x) * rows, 0.0);  // [k][j]
+    for (const int top : tile_starts(field.rows, rows))
+        for (const int left : tile_starts(field.cols, cols))
+            forward_2d(
+                rows, cols, rows,
+                [&](int r, float* out) {
+                    for (int c = 0; c < cols; ++c) {
+                        const float h = field.at(top + r, left + c);
+                        out[c] = std::isnan(h) ? 0.0f : static_cast<float>(h - mean) * window_x[c] * window_y[r];
+                    }
+                },
+                [&](std::size_t k, fftwf_complex* column, int n, std::size_t) {
+                    double* into = power.data() + k * n;
+                    for (int j = 0; j < n; ++j) into[j] += double(column[j][0]) * column[j][0] + double(column[j][1]) * column[j][1];
+                });
+    // Each frequency cell's power is spread over the angles the cell subtends (about its width over
+    // its radius): binned by its centre alone, the few cells near the origin, which carry most of
+    // the power, would crowd the axes' and diagonals' bins and give an isotropic surface a lay.
+    const double cell = std::sqrt(1.0 / (cols * dx) / (rows * dy));
     std::array<double, kAngularBins> spectrum{};
-    for (const auto& bins : partial)
-        for (int b = 0; b < kAngularBins; ++b) spectrum[b] += bins[b];
+    const auto deposit = [&spectrum](double angle, double half_width, double value) {
+        const double low = angle - half_width, high = angle + half_width;
+        for (int b = static_cast<int>(std::floor(low + 0.5)); b <= static_cast<int>(std::floor(high + 0.5)); ++b) {
+            const double overlap = std::min(high, b + 0.5) - std::max(low, b - 0.5);
+            if (overlap > 0.0) spectrum[((b % kAngularBins) + kAngularBins) % kAngularBins] += value * overlap / (high - low);
+        }
+    };
+    for (int k = 0; k < bins_x; ++k) {
+        // Each k > 0 below the Nyquist column also stands for its mirror −k.
+        const double weight = (k == 0 || 2 * k == cols) ? 1.0 : 2.0;
+        const double u = k / (0.5 * cols);
+        for (int j = 0; j < rows; ++j) {
+            const int row_frequency = j <= rows / 2 ? j : j - rows;
+            const double v = row_frequency / (0.5 * rows);
+            if ((k == 0 && row_frequency == 0) || u * u + v * v > 1.0) continue;
+            const double fx = k / (cols * dx);
+            const double fy = -row_frequency / (rows * dy);  // rows run towards −y
+            double angle = std::atan2(fy, fx) * 180.0 / pi;
+            if (angle < 0.0) angle += 180.0;
+            const double half_width = std::min(90.0, 0.5 * cell / std::hypot(fx, fy) * 180.0 / pi);
+            deposit(angle, half_width, weight * power[k * rows + j]);
+        }
+    }
     const int peak = static_cast<int>(std::max_element(spectrum.begin(), spectrum.end()) - spectrum.begin());
     // A parabola through the peak bin and its (circular) neighbours places the maximum between bins.
     const double before = spectrum[(peak + kAngularBins - 1) % kAngularBins];

@@ -150,7 +150,7 @@ TEST(ArealParameters, NonPeriodicFieldUsesPairsInsideTheField) {
     // The same Gaussian field read as a measured scan: zero padding instead of wrapping, each lag
     // averaged over the pairs inside the field. Its estimate differs from the circular one only
     // by the missing wrap-around pairs, a few per cent at these lags.
-    Heightfield field = gaussian_field(256, 8.0, 4.0, 5);
+    Heightfield field = gaussian_field(256, 12.0, 3.0, 5);
     const ArealParameters tile = compute_areal_parameters(field);
     field.periodic = false;
     const ArealParameters scan = compute_areal_parameters(field);
