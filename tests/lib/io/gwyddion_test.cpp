@@ -119,7 +119,8 @@ TEST(Gwyddion, AGwyFileThatGwyddionWroteLoadsWithItsHeightsAndSpacing) {
         for (int c = 0; c < field.cols; ++c) gwy_data_field_set_val(written, c, r, field.at(r, c) * 1e-6);
     GwyContainer* container = gwy_container_new();
     gwy_container_set_object(container, gwy_app_get_data_key_for_id(0), written);
-    gwy_container_set_const_string(container, gwy_app_get_data_title_key_for_id(0), "Height");
+    gwy_container_set_const_string(container, gwy_app_get_data_title_key_for_id(0),
+                                   reinterpret_cast<const guchar*>("Height"));
     ASSERT_EQ(gwy_file_save(container, path.c_str(), GWY_RUN_NONINTERACTIVE, nullptr), GWY_FILE_OPERATION_SAVE);
     g_object_unref(written);
     g_object_unref(container);
