@@ -10,6 +10,9 @@ packages=(
   libopenimageio-dev libopenexr-dev libfftw3-dev libcli11-dev libopencolorio-dev
   libzip-dev libpugixml-dev nlohmann-json3-dev libtomlplusplus-dev parallel python3-matplotlib libgtest-dev libgmock-dev libbenchmark-dev
   libnlopt-dev
+  # Gwyddion: the tests' independent implementation; the reader it offers is opt-in
+  # (GLINTSCOPE_CMAKE_ARGS=-DGLINTSCOPE_GWYDDION=ON, GPL-2+: docs/dependencies.md)
+  libgwyddion20-dev gwyddion libgtk2.0-dev libgtkglext1-dev
   fonts-dejavu-core
 )
 

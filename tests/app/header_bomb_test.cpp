@@ -1,4 +1,5 @@
-// Files whose headers claim enormous images (PNG, EXR, NPY, TIFF, X3P) are refused from the header,
+// Files whose headers claim enormous images (PNG, EXR, NPY, TIFF, X3P), enormous EXR attributes
+// or zip members that unpack to far more than their packed bytes can hold are refused from the header,
 // in well under a second and 200 MB, with one line and no library chatter (libpng's own
 // "libpng error" lines used to appear beside ours).
 #include <gtest/gtest.h>
@@ -14,6 +15,10 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+
+#include <vector>
+
+#include <OpenImageIO/imageio.h>
 
 #include "cli_runner.hpp"
 #include "zip_files.hpp"
@@ -64,15 +69,22 @@ std::string small_image(const TemporaryDirectory& directory, const std::string& 
     return path;
 }
 
+// Rewrites a PNG's IHDR (width, height after the signature and the chunk header) to claim
+// side × side pixels, with a matching chunk CRC, into `name`.
+std::string png_claiming(const TemporaryDirectory& directory, const std::string& source, std::uint32_t side,
+                         const std::string& name) {
+    std::string bytes = read_bytes(source);
+    put_be32(bytes, 16, side);
+    put_be32(bytes, 20, side);
+    put_be32(bytes, 29, crc32(bytes, 12, 29));
+    write_bytes(directory.file(name), bytes);
+    return directory.file(name);
+}
+
 std::string png_bomb(const TemporaryDirectory& directory) {
     const CliResult made = run_cli({"preview", "builtin:grating", "-o", directory.file("g.png")});
     EXPECT_EQ(made.exit_code, 0) << made.output;
-    std::string bytes = read_bytes(directory.file("g.png"));
-    put_be32(bytes, 16, 40000);  // IHDR: width, height after the signature and the chunk header
-    put_be32(bytes, 20, 40000);
-    put_be32(bytes, 29, crc32(bytes, 12, 29));
-    write_bytes(directory.file("bomb.png"), bytes);
-    return directory.file("bomb.png");
+    return png_claiming(directory, directory.file("g.png"), 40000, "bomb.png");
 }
 
 std::string exr_bomb(const TemporaryDirectory& directory) {
@@ -124,19 +136,62 @@ std::string tiff_bomb(const TemporaryDirectory& directory) {
     return directory.file("bomb.tif");
 }
 
-// The tool's own X3P of a small crop, whose main.xml then claims 100000 × 100000 points.
-std::string x3p_bomb(const TemporaryDirectory& directory) {
+// The main.xml of the tool's own X3P of a small crop (written to s.x3p), claiming side² points.
+std::string x3p_xml_claiming(const TemporaryDirectory& directory, const std::string& side) {
     const CliResult made = run_cli({"convert", "builtin:grating", directory.file("s.x3p"), "--crop", "0,0,2um,2um"});
     EXPECT_EQ(made.exit_code, 0) << made.output;
     std::string xml = read_zip_member(directory.file("s.x3p"), "main.xml");
     for (const std::string tag : {"SizeX", "SizeY"}) {
         const std::size_t open = xml.find("<" + tag + ">"), close = xml.find("</" + tag + ">");
         EXPECT_NE(open, std::string::npos) << tag;
-        xml.replace(open + tag.size() + 2, close - open - tag.size() - 2, "100000");
+        xml.replace(open + tag.size() + 2, close - open - tag.size() - 2, side);
     }
+    return xml;
+}
+
+// The tool's own X3P of a small crop, whose main.xml then claims 100000 × 100000 points.
+std::string x3p_bomb(const TemporaryDirectory& directory) {
+    const std::string xml = x3p_xml_claiming(directory, "100000");
     const std::string data = read_zip_member(directory.file("s.x3p"), "bindata/data.bin");
     EXPECT_TRUE(write_zip(directory.file("bomb.x3p"), {{"main.xml", xml}, {"bindata/data.bin", data}}));
     return directory.file("bomb.x3p");
+}
+
+// A valid 16² 8-bit grey PNG whose IHDR then claims 16384²: 256 MB decoded from 100 bytes.
+std::string grey_png_bomb(const TemporaryDirectory& directory) {
+    const std::string path = directory.file("grey.png");
+    const std::vector<unsigned char> pixels(16 * 16, 7);
+    auto output = OIIO::ImageOutput::create(path);
+    EXPECT_TRUE(output && output->open(path, OIIO::ImageSpec(16, 16, 1, OIIO::TypeDesc::UINT8)) &&
+                output->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && output->close());
+    return png_claiming(directory, path, 16384, "grey-bomb.png");
+}
+
+// The tool's own small EXR whose string attribute glintscope:texel_um then claims 2 GB.
+std::string exr_attribute_bomb(const TemporaryDirectory& directory) {
+    std::string bytes = read_bytes(small_image(directory, "attribute.exr"));
+    const std::string attribute = std::string("glintscope:texel_um") + '\0' + "string" + '\0';
+    const std::size_t at = bytes.find(attribute);
+    EXPECT_NE(at, std::string::npos);
+    put_le32(bytes, at + attribute.size(), 0x7ffffff0u);
+    write_bytes(directory.file("attribute-bomb.exr"), bytes);
+    return directory.file("attribute-bomb.exr");
+}
+
+// An X3P whose main.xml claims 16384² float64 points (2 GiB) and whose zip headers, local and
+// central, claim that bindata/data.bin unpacks to exactly that from a few packed bytes.
+std::string x3p_member_bomb(const TemporaryDirectory& directory) {
+    const std::string xml = x3p_xml_claiming(directory, "16384");
+    EXPECT_TRUE(write_zip(directory.file("member-bomb.x3p"),
+                          {{"main.xml", xml}, {"bindata/data.bin", std::string(4096, '\0')}}));
+    std::string bytes = read_bytes(directory.file("member-bomb.x3p"));
+    const std::string name = "bindata/data.bin";
+    for (std::size_t at = bytes.find(name); at != std::string::npos; at = bytes.find(name, at + 1)) {
+        if (at >= 30 && bytes.compare(at - 30, 4, "PK\x03\x04") == 0) put_le32(bytes, at - 30 + 22, 16384u * 16384u * 8u);
+        if (at >= 46 && bytes.compare(at - 46, 4, "PK\x01\x02") == 0) put_le32(bytes, at - 46 + 24, 16384u * 16384u * 8u);
+    }
+    write_bytes(directory.file("member-bomb.x3p"), bytes);
+    return directory.file("member-bomb.x3p");
 }
 
 // The peak memory of `glintscope info PATH` alone, in MB: run from a forked child, whose only
@@ -172,8 +227,9 @@ long info_peak_megabytes(const std::string& path, CliResult& result, double& sec
 
 TEST(HeaderBomb, EachFormatIsRefusedFromItsHeaderQuicklyAndSmall) {
     const TemporaryDirectory directory;
-    for (const std::string& path : {png_bomb(directory), exr_bomb(directory), npy_bomb(directory),
-                                    tiff_bomb(directory), x3p_bomb(directory)}) {
+    for (const std::string& path :
+         {png_bomb(directory), exr_bomb(directory), npy_bomb(directory), tiff_bomb(directory), x3p_bomb(directory),
+          grey_png_bomb(directory), exr_attribute_bomb(directory), x3p_member_bomb(directory)}) {
         CliResult result;
         double seconds = 0.0;
         [[maybe_unused]] const long megabytes = info_peak_megabytes(path, result, seconds);

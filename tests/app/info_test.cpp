@@ -2,9 +2,12 @@
 // and one-line errors with exit code 1 for bad files.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <numbers>
+#include <regex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -125,6 +128,80 @@ TEST(InfoCommand, BadFilesFailWithOneLineAndExitCodeOne) {
         EXPECT_TRUE(contains(result.output, message)) << message << "\n" << result.output;
         EXPECT_EQ(result.output.find('\n'), result.output.size() - 1) << result.output;
     }
+}
+
+// The number after `key` in JSON output (NaN if absent).
+double json_value(const std::string& output, const std::string& key) {
+    const std::size_t at = output.find("\"" + key + "\": ");
+    if (at == std::string::npos) return std::numeric_limits<double>::quiet_NaN();
+    return std::stod(output.substr(at + key.size() + 4));
+}
+
+// builtin:grating is A sin(2π x/Λ) with A = 0.1 µm, Λ = 4 µm, 0.25 µm texels, periodic.
+TEST(InfoCommand, IsoParametersOfTheGratingAndWhatEachFlagChanges) {
+    const double amplitude = 0.1, wavelength = 4.0;
+    const auto plain = run_cli({"info", "builtin:grating", "--json"});
+    ASSERT_EQ(plain.exit_code, 0) << plain.output;
+    EXPECT_NEAR(json_value(plain.output, "Sq_um"), amplitude / std::sqrt(2.0), 1e-6);
+    EXPECT_NEAR(json_value(plain.output, "Sku"), 1.5, 1e-4);
+    // Central differences over 16 texels a period: A sin(2π/16)/Δ/√2, 2.6% below √2 πA/Λ.
+    EXPECT_NEAR(json_value(plain.output, "Sdq"), amplitude * std::sin(2.0 * std::numbers::pi / 16.0) / 0.25 / std::sqrt(2.0),
+                1e-6);
+    EXPECT_NEAR(json_value(plain.output, "Sal_um"), wavelength * std::acos(0.2) / (2.0 * std::numbers::pi), 0.01);
+    EXPECT_NEAR(json_value(plain.output, "Std_deg"), 90.0, 0.5);
+    EXPECT_TRUE(contains(plain.output, "\"Str_is_upper_bound\": true")) << plain.output;
+    EXPECT_TRUE(contains(plain.output, "\"surface\": \"as read (not levelled, no S- or L-filter)\"")) << plain.output;
+
+    // s = 0.5: cos(2π t/Λ) = 0.5 at t = Λ/6.
+    const auto threshold = run_cli({"info", "builtin:grating", "--json", "--acf-threshold", "0.5"});
+    EXPECT_NEAR(json_value(threshold.output, "Sal_um"), wavelength / 6.0, 0.01) << threshold.output;
+    // The Gaussian filters pass a sinusoid of their nesting index at 50%.
+    for (const char* filter : {"--s-filter", "--l-filter"}) {
+        const auto filtered = run_cli({"info", "builtin:grating", "--json", filter, "4um"});
+        ASSERT_EQ(filtered.exit_code, 0) << filtered.output;
+        EXPECT_NEAR(json_value(filtered.output, "Sq_um"), 0.5 * amplitude / std::sqrt(2.0), 1e-4) << filter;
+        EXPECT_TRUE(contains(filtered.output, "nesting index 4 um")) << filtered.output;
+    }
+}
+
+TEST(InfoCommand, LevellingRemovesATilt) {
+    TemporaryDirectory directory;
+    Heightfield tilted = make_heightfield(64, 64, 1.0);
+    for (int r = 0; r < 64; ++r)
+        for (int c = 0; c < 64; ++c) {
+            const Point2 s = sample_position(tilted, r, c);
+            tilted.at(r, c) = static_cast<float>(0.05 * s.x + 0.2 * std::sin(2.0 * std::numbers::pi * s.y / 16.0));
+        }
+    const std::string path = directory.file("tilted.exr");
+    save_heightfield(path, tilted);
+    const auto raw = run_cli({"info", path, "--json"});
+    const auto level = run_cli({"info", path, "--json", "--level"});
+    ASSERT_EQ(level.exit_code, 0) << level.output;
+    // The sinusoid's gradient alone, in y: 0.2·sin(2π/16)/√2 with central differences.
+    const double sinusoid_sdq = 0.2 * std::sin(2.0 * std::numbers::pi / 16.0) / std::sqrt(2.0);
+    EXPECT_NEAR(json_value(raw.output, "Sdq"), std::hypot(0.05, sinusoid_sdq), 1e-3);
+    EXPECT_NEAR(json_value(level.output, "Sdq"), sinusoid_sdq, 1e-3);
+    EXPECT_TRUE(contains(level.output, "levelled (least-squares plane removed)")) << level.output;
+}
+
+TEST(InfoCommand, NoNaNEvenWhereACorrelationOutlastsTheField) {
+    // The grating never decorrelates along y; a constant field has no ISO parameters at all.
+    TemporaryDirectory directory;
+    const std::string flat = directory.file("flat.exr");
+    save_heightfield(flat, make_heightfield(8, 8, 1.0, 3.0f));
+    for (const std::vector<std::string>& arguments :
+         {std::vector<std::string>{"info", "builtin:grating"}, {"info", "builtin:grating", "--json"}, {"info", flat},
+          {"info", flat, "--json"}}) {
+        const auto result = run_cli(arguments);
+        ASSERT_EQ(result.exit_code, 0) << result.output;
+        EXPECT_FALSE(std::regex_search(result.output, std::regex("\\b(nan|null|inf)\\b", std::regex::icase)))
+            << result.output;
+    }
+    const auto grating = run_cli({"info", "builtin:grating"});
+    EXPECT_TRUE(contains(line_of(grating.output, "correlation length:"),
+                         "y longer than 128 um (half the field; autocorrelation still 1 there)"))
+        << grating.output;
+    EXPECT_TRUE(contains(run_cli({"info", flat}).output, "not defined: the heights do not vary"));
 }
 
 TEST(InfoCommand, HelpShowsUnitsAndDefaults) {

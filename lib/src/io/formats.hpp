@@ -50,6 +50,9 @@ void check_grid_size(long long cols, long long rows, const std::string& path);
 Heightfield read_npy(const std::string& path, const LoadOptions& options);
 Heightfield read_x3p(const std::string& path, const LoadOptions& options);
 Heightfield read_image(const std::string& path, const LoadOptions& options);
+// Through Gwyddion's library (gwyddion_format.cpp); without it in the build, throws a line
+// saying how to build with it.
+Heightfield read_gwyddion(const std::string& path, const LoadOptions& options);
 
 // Writers write exactly to `file` (a temporary from write_atomically); `path` names the
 // user's target in messages.

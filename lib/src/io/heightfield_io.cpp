@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <set>
 #include <system_error>
 
 #include "formats.hpp"
@@ -23,6 +24,33 @@ void check_readable_file(const std::string& path) {
     const auto size = fs::file_size(path, ec);
     if (ec) throw read_error(path, ec.message());
     if (size == 0) throw read_error(path, "the file is empty");
+}
+
+// Extensions OpenImageIO reads: these never go to Gwyddion's library.
+bool is_image_extension(const std::string& extension) {
+    static const std::set<std::string> images = {"exr", "tif", "tiff", "png", "jpg", "jpeg", "hdr", "pfm", "pnm",
+                                                 "pgm", "ppm", "bmp", "tga", "dpx", "webp", "jp2", "sgi", "rgb",
+                                                 "psd", "iff", "gif", "heic", "avif"};
+    return images.count(extension) > 0;
+}
+
+// Instrument and analysis formats only Gwyddion's library reads here (Gwyddion's own, Digital
+// Surf, Sensofar, Zygo, Keyence, Nanofocus, Bruker/Veeco, Mitutoyo, ...): named so that a build
+// without it says how to read them instead of an image library's puzzlement.
+bool is_instrument_extension(const std::string& extension) {
+    static const std::set<std::string> instruments = {"gwy", "sur", "pro", "plu", "plux", "apx", "datx", "opd",
+                                                      "xyz", "zmg", "vk4", "vk6", "nms", "sdf", "spm", "mi",
+                                                      "ibw", "nid", "lsm", "oir", "sxm", "mdt", "afm"};
+    return instruments.count(extension) > 0;
+}
+
+Heightfield read_by_extension(const std::string& path, const LoadOptions& options) {
+    const std::string extension = file_extension(path);
+    if (extension == "npy") return read_npy(path, options);
+    if (extension == "x3p") return read_x3p(path, options);
+    if (is_image_extension(extension)) return read_image(path, options);
+    if (reads_other_formats_through_gwyddion() || is_instrument_extension(extension)) return read_gwyddion(path, options);
+    return read_image(path, options);
 }
 
 }  // namespace
@@ -65,10 +93,7 @@ HeightConversion resolve_units(const StoredUnits& stored, const LoadOptions& opt
 
 Heightfield load_heightfield(const std::string& path, const LoadOptions& options) {
     check_readable_file(path);
-    const std::string extension = file_extension(path);
-    Heightfield field = extension == "npy"   ? read_npy(path, options)
-                        : extension == "x3p" ? read_x3p(path, options)
-                                             : read_image(path, options);
+    Heightfield field = read_by_extension(path, options);
     validate(field, "cannot read '" + path + "'", /*allow_missing=*/true);
     // A file does not say whether it tiles; measured scans do not, so that is the default.
     field.periodic = options.periodic;

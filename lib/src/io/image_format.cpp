@@ -16,6 +16,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <cstdint>
 #include <cstdio>
 #include <string_view>
@@ -165,10 +166,12 @@ private:
 };
 
 // Lossless codecs (deflate, PIZ, RLE) stay below about 1032:1; a header that claims more decoded
-// bytes than that from its file, beyond a size any image here may have, is a decompression bomb:
-// refuse it before the decoder allocates (a PNG claiming 40000² otherwise takes ~20 s and 9 GB).
+// bytes than that from its file, beyond a small size, is a decompression bomb: refuse it before
+// the decoder allocates (a PNG claiming 40000² otherwise takes ~20 s and 9 GB, a 6 KB one
+// claiming 16384² 1.4 GB). Only the near-constant images of codecs that pack tighter (LZW
+// TIFF, up to about 1365:1) and decode to more than 16 MB are refused wrongly.
 constexpr double kMaxCompressionRatio = 1100.0;
-constexpr double kAlwaysAllowedBytes = 256.0 * (1 << 20);
+constexpr double kAlwaysAllowedBytes = 16.0 * (1 << 20);
 
 void check_decoded_size(const OIIO::ImageSpec& spec, const std::string& path) {
     const double decoded = double(spec.width) * spec.height * spec.nchannels * double(spec.format.size());
@@ -181,7 +184,51 @@ void check_decoded_size(const OIIO::ImageSpec& spec, const std::string& path) {
                                " KB file, more than any lossless compression gives: refused");
 }
 
+// OpenEXR allocates each header attribute at the size the header claims before reading it, so
+// a few bytes claiming a 2 GB attribute cost 2 GB. The header is a list of attributes (name,
+// type name, 4-byte size, value) ended by an empty name, one header per part in multi-part
+// files (a further empty name ends the list): every size is checked against the bytes the file
+// has left.
+std::string read_exr_name(std::istream& in) {
+    std::string name;
+    for (char ch; in.get(ch) && ch != '\0';)
+        if (name.size() < 256) name += ch;
+    return name;
+}
+
+void check_exr_attribute_sizes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    unsigned char start[8] = {};
+    if (!in.read(reinterpret_cast<char*>(start), sizeof start)) return;
+    if (start[0] != 0x76 || start[1] != 0x2f || start[2] != 0x31 || start[3] != 0x01) return;
+    const bool multi_part = start[5] & 0x10;
+    std::error_code ec;
+    const auto file_bytes = static_cast<long long>(std::filesystem::file_size(path, ec));
+    if (ec) return;
+    for (bool first_attribute = true; in;) {
+        const std::string name = read_exr_name(in);
+        if (name.empty()) {
+            if (!multi_part || first_attribute) return;  // the end of the (last) header
+            first_attribute = true;
+            continue;
+        }
+        first_attribute = false;
+        read_exr_name(in);  // the type name
+        unsigned char size_bytes[4] = {};
+        if (!in.read(reinterpret_cast<char*>(size_bytes), 4)) return;
+        const std::int32_t size = static_cast<std::int32_t>(std::uint32_t(size_bytes[0]) | std::uint32_t(size_bytes[1]) << 8 |
+                                                            std::uint32_t(size_bytes[2]) << 16 |
+                                                            std::uint32_t(size_bytes[3]) << 24);
+        const long long left = file_bytes - static_cast<long long>(in.tellg());
+        if (size < 0 || size > left)
+            throw read_error(path, "the EXR header attribute '" + name + "' claims " + std::to_string(size) +
+                                       " bytes, but the file has " + std::to_string(left) + " left: refused");
+        in.seekg(size, std::ios::cur);
+    }
+}
+
 Heightfield read_image(const std::string& path, const LoadOptions& options) {
+    check_exr_attribute_sizes(path);
     const QuietLibraryOutput quiet;
     // Keep colour channels as stored: associating alpha would scale heights by it.
     OIIO::ImageSpec config;

@@ -1,13 +1,19 @@
 // ISO 25178-72 (formerly ISO 5436-2) X3P files: a zip archive holding main.xml, which
 // describes the axes and the grid, and bindata/data.bin with the heights.
 //
-// Reading: Record1 gives the axes. CX and CY must be incremental (AxisType I) with their
-// Increment in metres; CZ's DataType I/L/F/D means little-endian int16/int32/float32/float64.
-// For the integer types a height is Offset + Increment·value (metres); float types hold metres
-// directly and ignore CZ's Increment (tools such as x3ptools write Increment 1e-6 beside float
-// data in metres). Record3's MatrixDimension gives SizeX, SizeY (SizeZ must be 1); the points
-// run X fastest, then Y. NaN in float data and a 0 bit in the optional bindata/valid.bin
-// (one bit per point, least significant bit first, 1 = valid) mark missing points.
+// Reading: Record1 gives the axes. CX and CY are incremental (AxisType I, Increment in metres)
+// or absolute (A: every point stores its coordinate, read as incremental when the coordinates
+// form a regular grid, refused naming the point that does not); each absolute axis's DataType
+// I/L/F/D means little-endian int16/int32/float32/float64. Integer values are
+// Offset + Increment·value (metres); float values are metres and ignore Increment (tools such as
+// x3ptools write Increment 1e-6 beside float data in metres). Increment and Offset are optional
+// and an empty element means absent. Record3's MatrixDimension gives SizeX, SizeY (SizeZ must
+// be 1); the points run X fastest, then Y, either in bindata/data.bin (each point the values of
+// its absolute axes in the order X, Y, Z) or listed in main.xml (DataList: one Datum per point,
+// the values separated by ';', an empty Datum for an invalid point). NaN in float data and a 0
+// bit in the optional bindata/valid.bin (one bit per point, least significant bit first,
+// 1 = valid) mark missing points. Every member's claimed size is checked against its packed
+// size before it is read.
 // main.xml may sit at the archive root or in one top-level folder (as in x3ptools' files).
 //
 // Orientation: X3P point (i, j) lies at x = i·dx, y = j·dy in the right-handed frame with z up,
@@ -32,11 +38,15 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <limits>
 #include <list>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include <pugixml.hpp>
 #include <zip.h>
@@ -51,6 +61,7 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "the X3P reader and writer assume a little-endian host");
 
 constexpr std::size_t kMaxXmlBytes = std::size_t{64} << 20;
+constexpr double kMaxDeflateRatio = 1032.0;
 constexpr const char* kProvenanceMarker = "glintscope provenance";
 
 std::string zip_error_text(int code) {
@@ -213,11 +224,26 @@ public:
         return others;
     }
 
+    // The unpacked size the archive claims for a member, checked against what its packed bytes
+    // can hold before anything is allocated for it: deflate expands at most 1032:1 (RFC 1951's
+    // longest match, 258 bytes, from a 2-bit code at best), a stored member not at all.
     zip_uint64_t size_of(zip_uint64_t index, const std::string& name) const {
         zip_stat_t stat;
         zip_stat_init(&stat);
-        if (zip_stat_index(archive_, index, 0, &stat) != 0 || !(stat.valid & ZIP_STAT_SIZE))
+        if (zip_stat_index(archive_, index, 0, &stat) != 0 || !(stat.valid & ZIP_STAT_SIZE) ||
+            !(stat.valid & ZIP_STAT_COMP_SIZE) || !(stat.valid & ZIP_STAT_COMP_METHOD))
             throw read_error(path_, "cannot read the size of " + name + " in the archive");
+        std::error_code ec;
+        const auto file_bytes = std::filesystem::file_size(path_, ec);
+        if (ec || stat.comp_size > file_bytes)
+            throw read_error(path_, name + " claims " + std::to_string(stat.comp_size) + " packed bytes in a " +
+                                        std::to_string(file_bytes) + "-byte file: refused");
+        const bool stored = stat.comp_method == ZIP_CM_STORE;
+        const double most = stored ? double(stat.comp_size) : kMaxDeflateRatio * double(stat.comp_size) + 64.0;
+        if (double(stat.size) > most)
+            throw read_error(path_, name + " claims " + std::to_string(stat.size) + " bytes unpacked from " +
+                                        std::to_string(stat.comp_size) + " packed bytes, more than " +
+                                        (stored ? "storing" : "deflate") + " can give: refused");
         return stat.size;
     }
 
@@ -325,57 +351,79 @@ std::size_t byte_size(ZType type) {
     return 8;
 }
 
+// One of Record1's axes. An absolute axis (A) stores a value per point, scaled as
+// Offset + Increment·value for the integer types and taken as metres for the float types; an
+// incremental axis (I) stores nothing and places point k at Offset + k·Increment.
+struct X3pAxis {
+    bool absolute = false;
+    ZType type = ZType::float64;
+    double increment_m = 1.0;
+    double offset_m = 0.0;
+    std::optional<double> increment_um;  // the incremental axes' spacing, parsed exactly
+};
+
 struct X3pLayout {
     long long size_x = 0;
     long long size_y = 0;
-    std::optional<double> dx_um;
-    std::optional<double> dy_um;
-    ZType z_type = ZType::float64;
-    double z_increment_m = 1.0;
-    double z_offset_m = 0.0;
-    std::string data_link;
+    X3pAxis x;
+    X3pAxis y;
+    X3pAxis z;
+    std::string data_link;   // empty when the points are listed in main.xml (DataList)
     std::string valid_link;
+    pugi::xml_node data_list;
 };
 
-std::optional<double> axis_spacing_um(const X3pDocument& doc, const pugi::xml_node& axes, std::string_view name,
-                                      const std::string& path) {
+// The standard makes Increment and Offset optional; writers also leave them present but empty
+// (x3ptools writes <Offset/>), which means the same as absent.
+std::optional<std::string_view> optional_text(const pugi::xml_node& parent, std::string_view name) {
+    const std::string_view text = trim(child(parent, name).child_value());
+    if (text.empty()) return std::nullopt;
+    return text;
+}
+
+ZType parse_data_type(const X3pDocument& doc, const pugi::xml_node& axis, const std::string& where) {
+    const std::string_view data_type = trim(doc.require_text(axis, "DataType", where));
+    if (data_type == "I") return ZType::int16;
+    if (data_type == "L") return ZType::int32;
+    if (data_type == "F") return ZType::float32;
+    if (data_type == "D") return ZType::float64;
+    throw doc.invalid(where + "/DataType", data_type);
+}
+
+X3pAxis parse_axis(const X3pDocument& doc, const pugi::xml_node& axes, std::string_view name) {
     const std::string where = "Record1/Axes/" + std::string(name);
-    const pugi::xml_node axis = doc.require(axes, name, "Record1/Axes");
-    const std::string_view type = trim(doc.require_text(axis, "AxisType", where));
-    if (type != "I")
-        throw read_error(path, "X3P " + std::string(name) + " axis is of type '" + std::string(type) +
-                                   "'; only incremental (I) x and y axes are supported");
-    const std::string_view increment = doc.require_text(axis, "Increment", where);
-    const std::optional<double> um = metres_text_to_um(increment);
-    if (!um || !(*um > 0.0)) throw doc.invalid(where + "/Increment", increment);
-    return um;
+    const pugi::xml_node node = doc.require(axes, name, "Record1/Axes");
+    X3pAxis axis;
+    const std::string_view type = trim(doc.require_text(node, "AxisType", where));
+    if (type != "I" && type != "A") throw doc.invalid(where + "/AxisType", type);
+    axis.absolute = type == "A";
+    if (const auto increment = optional_text(node, "Increment")) {
+        const double value = doc.number(where + "/Increment", *increment);
+        if (value == 0.0) throw doc.invalid(where + "/Increment", *increment);
+        axis.increment_m = value;
+        if (!axis.absolute) {
+            axis.increment_um = metres_text_to_um(*increment);
+            if (!axis.increment_um || !(*axis.increment_um > 0.0)) throw doc.invalid(where + "/Increment", *increment);
+        }
+    }
+    if (const auto offset = optional_text(node, "Offset")) axis.offset_m = doc.number(where + "/Offset", *offset);
+    // An incremental axis needs no DataType; an absolute one says how its values are stored.
+    if (axis.absolute) axis.type = parse_data_type(doc, node, where);
+    return axis;
 }
 
 X3pLayout parse_layout(const X3pDocument& doc, const std::string& path) {
     X3pLayout layout;
     const pugi::xml_node record1 = doc.require(doc.root(), "Record1", "ISO5436_2");
     const pugi::xml_node axes = doc.require(record1, "Axes", "Record1");
-    layout.dx_um = axis_spacing_um(doc, axes, "CX", path);
-    layout.dy_um = axis_spacing_um(doc, axes, "CY", path);
-
-    const pugi::xml_node cz = doc.require(axes, "CZ", "Record1/Axes");
-    const std::string_view data_type = trim(doc.require_text(cz, "DataType", "Record1/Axes/CZ"));
-    if (data_type == "I")
-        layout.z_type = ZType::int16;
-    else if (data_type == "L")
-        layout.z_type = ZType::int32;
-    else if (data_type == "F")
-        layout.z_type = ZType::float32;
-    else if (data_type == "D")
-        layout.z_type = ZType::float64;
-    else
-        throw doc.invalid("Record1/Axes/CZ/DataType", data_type);
-    if (const pugi::xml_node increment = child(cz, "Increment")) {
-        layout.z_increment_m = doc.number("Record1/Axes/CZ/Increment", increment.child_value());
-        if (layout.z_increment_m == 0.0) throw doc.invalid("Record1/Axes/CZ/Increment", increment.child_value());
-    }
-    if (const pugi::xml_node offset = child(cz, "Offset"))
-        layout.z_offset_m = doc.number("Record1/Axes/CZ/Offset", offset.child_value());
+    layout.x = parse_axis(doc, axes, "CX");
+    layout.y = parse_axis(doc, axes, "CY");
+    layout.z = parse_axis(doc, axes, "CZ");
+    if (!layout.z.absolute) throw read_error(path, "X3P CZ axis is incremental (I); heights need an absolute axis");
+    for (const auto& [axis, name] : {std::pair{&layout.x, "CX"}, std::pair{&layout.y, "CY"}})
+        if (!axis->absolute && !axis->increment_um)
+            throw read_error(path, std::string("main.xml gives incremental axis ") + name +
+                                       " no Increment, so its spacing is unknown");
 
     const pugi::xml_node record3 = doc.require(doc.root(), "Record3", "ISO5436_2");
     const pugi::xml_node matrix = child(record3, "MatrixDimension");
@@ -390,10 +438,14 @@ X3pLayout parse_layout(const X3pDocument& doc, const std::string& path) {
     if (size_z != 1)
         throw read_error(path, "X3P files with SizeZ = " + std::to_string(size_z) + " layers are not supported");
 
-    const pugi::xml_node data_link = child(record3, "DataLink");
-    if (!data_link) throw read_error(path, "X3P point data inside main.xml (no Record3/DataLink) is not supported");
-    layout.data_link = trim(doc.require_text(data_link, "PointDataLink", "Record3/DataLink"));
-    if (const pugi::xml_node valid = child(data_link, "ValidPointsLink")) layout.valid_link = trim(valid.child_value());
+    if (const pugi::xml_node data_link = child(record3, "DataLink")) {
+        layout.data_link = trim(doc.require_text(data_link, "PointDataLink", "Record3/DataLink"));
+        if (const auto valid = optional_text(data_link, "ValidPointsLink")) layout.valid_link = *valid;
+    } else if (const pugi::xml_node data_list = child(record3, "DataList")) {
+        layout.data_list = data_list;
+    } else {
+        throw read_error(path, "main.xml has neither Record3/DataLink nor Record3/DataList");
+    }
     return layout;
 }
 
@@ -423,20 +475,25 @@ Provenance read_provenance(const X3pDocument& doc) {
 }
 
 template <typename Stored>
-double stored_value(const char* bytes, std::size_t index) {
+double stored_value(const char* bytes) {
     Stored value;
-    std::memcpy(&value, bytes + index * sizeof(Stored), sizeof value);
+    std::memcpy(&value, bytes, sizeof value);
     return static_cast<double>(value);
 }
 
-double height_in_metres(const X3pLayout& layout, const std::string& data, std::size_t index) {
-    switch (layout.z_type) {
-        case ZType::int16:
-            return layout.z_offset_m + layout.z_increment_m * stored_value<std::int16_t>(data.data(), index);
-        case ZType::int32:
-            return layout.z_offset_m + layout.z_increment_m * stored_value<std::int32_t>(data.data(), index);
-        case ZType::float32: return stored_value<float>(data.data(), index);
-        case ZType::float64: return stored_value<double>(data.data(), index);
+// A stored value in metres: integer types through Offset and Increment, float types as they are
+// (x3ptools writes Increment 1e-6 beside float data already in metres).
+double axis_metres(const X3pAxis& axis, double stored) {
+    const bool integer = axis.type == ZType::int16 || axis.type == ZType::int32;
+    return integer ? axis.offset_m + axis.increment_m * stored : stored;
+}
+
+double decode(const X3pAxis& axis, const char* bytes) {
+    switch (axis.type) {
+        case ZType::int16: return axis_metres(axis, stored_value<std::int16_t>(bytes));
+        case ZType::int32: return axis_metres(axis, stored_value<std::int32_t>(bytes));
+        case ZType::float32: return stored_value<float>(bytes);
+        case ZType::float64: return stored_value<double>(bytes);
     }
     return 0.0;
 }
@@ -454,6 +511,139 @@ std::string read_member(const ZipReader& zip, const std::string& folder, const s
         throw read_error(path, link + " has " + std::to_string(size) + " bytes, expected " +
                                    std::to_string(expected_size) + " for the grid in main.xml");
     return zip.read(*index, size, link);
+}
+
+// Every point of the matrix, X fastest: its height in metres (NaN when invalid) and, for
+// absolute CX and CY, its coordinates in metres.
+struct X3pPoints {
+    std::vector<double> x;
+    std::vector<double> y;
+};
+
+// Point records in bindata: the values of the absolute axes in the order X, Y, Z.
+template <typename StoreHeight>
+X3pPoints decode_binary(const X3pLayout& layout, const std::string& data, const std::string& valid,
+                        std::size_t points, const StoreHeight& store_height) {
+    X3pPoints coordinates;
+    if (layout.x.absolute) coordinates.x.resize(points);
+    if (layout.y.absolute) coordinates.y.resize(points);
+    const std::size_t x_bytes = layout.x.absolute ? byte_size(layout.x.type) : 0;
+    const std::size_t y_bytes = layout.y.absolute ? byte_size(layout.y.type) : 0;
+    const std::size_t record = x_bytes + y_bytes + byte_size(layout.z.type);
+    for (std::size_t k = 0; k < points; ++k) {
+        const char* bytes = data.data() + k * record;
+        if (x_bytes) coordinates.x[k] = decode(layout.x, bytes);
+        if (y_bytes) coordinates.y[k] = decode(layout.y, bytes + x_bytes);
+        // The mask: one bit per point, least significant first, 1 = valid (ISO 25178-72).
+        const bool is_valid = valid.empty() || (static_cast<unsigned char>(valid[k / 8]) >> (k % 8)) & 1u;
+        store_height(k, is_valid ? decode(layout.z, bytes + x_bytes + y_bytes) : std::nan(""));
+    }
+    return coordinates;
+}
+
+// Points listed in main.xml (ISO 25178-72's DataList): one Datum per point holding the values of
+// the absolute axes separated by ';', an empty Datum for an invalid point.
+template <typename StoreHeight>
+X3pPoints decode_data_list(const X3pLayout& layout, std::size_t points, const std::string& path,
+                           const StoreHeight& store_height) {
+    X3pPoints coordinates;
+    if (layout.x.absolute) coordinates.x.resize(points);
+    if (layout.y.absolute) coordinates.y.resize(points);
+    std::vector<const X3pAxis*> stored_axes;
+    if (layout.x.absolute) stored_axes.push_back(&layout.x);
+    if (layout.y.absolute) stored_axes.push_back(&layout.y);
+    stored_axes.push_back(&layout.z);
+    std::size_t k = 0;
+    for (pugi::xml_node datum = layout.data_list.first_child(); datum; datum = datum.next_sibling()) {
+        if (datum.type() != pugi::node_element || local_name(datum) != "Datum") continue;
+        if (k == points) break;
+        const std::string_view text = trim(datum.child_value());
+        if (text.empty()) {
+            store_height(k++, std::nan(""));
+            continue;
+        }
+        std::vector<double> values;
+        for (std::string_view rest = text; !rest.empty();) {
+            const std::size_t separator = rest.find(';');
+            const std::string_view field = rest.substr(0, separator);
+            try {
+                values.push_back(parse_number(field));
+            } catch (const Error&) {
+                throw read_error(path, "main.xml has an invalid Datum " + std::to_string(k) + " '" + std::string(text) + "'");
+            }
+            rest = separator == std::string_view::npos ? std::string_view() : rest.substr(separator + 1);
+        }
+        if (values.size() != stored_axes.size())
+            throw read_error(path, "main.xml Datum " + std::to_string(k) + " holds " + std::to_string(values.size()) +
+                                       " values, expected " + std::to_string(stored_axes.size()) +
+                                       " (one per absolute axis)");
+        std::size_t v = 0;
+        if (layout.x.absolute) coordinates.x[k] = axis_metres(layout.x, values[v++]);
+        if (layout.y.absolute) coordinates.y[k] = axis_metres(layout.y, values[v++]);
+        store_height(k++, axis_metres(layout.z, values[v]));
+    }
+    return coordinates;
+}
+
+std::size_t count_data_list(const pugi::xml_node& data_list) {
+    std::size_t count = 0;
+    for (pugi::xml_node datum = data_list.first_child(); datum; datum = datum.next_sibling())
+        if (datum.type() == pugi::node_element && local_name(datum) == "Datum") ++count;
+    return count;
+}
+
+// Absolute coordinates that form a regular grid: coordinate = c0 + n·spacing for every valid
+// point (n its column for CX, its row for CY), each within kGridTolerance of a spacing. Returns
+// the spacing in µm (least squares over the valid points) and the largest deviation in
+// spacings, or throws naming the point that lies off the grid.
+constexpr double kGridTolerance = 0.05;
+
+struct GridFit {
+    double spacing_um = 0.0;
+    double largest_deviation = 0.0;  // in spacings
+};
+
+GridFit grid_from_absolute_axis(const std::vector<double>& coordinate_m, const std::vector<bool>& valid,
+                                long long size_x, bool along_x, const char* name, const std::string& path) {
+    double count = 0.0, sum_n = 0.0, sum_c = 0.0, sum_nn = 0.0, sum_nc = 0.0;
+    long long first_n = -1;
+    bool several = false;
+    const auto index_of = [&](std::size_t k) {
+        return along_x ? static_cast<long long>(k) % size_x : static_cast<long long>(k) / size_x;
+    };
+    for (std::size_t k = 0; k < coordinate_m.size(); ++k) {
+        if (!valid[k]) continue;
+        if (!std::isfinite(coordinate_m[k]))
+            throw read_error(path, std::string("X3P absolute ") + name + " of valid point " + std::to_string(k) +
+                                       " is not a number");
+        const double n = static_cast<double>(index_of(k));
+        if (first_n < 0) first_n = index_of(k);
+        several = several || index_of(k) != first_n;
+        count += 1.0;
+        sum_n += n;
+        sum_c += coordinate_m[k];
+        sum_nn += n * n;
+        sum_nc += n * coordinate_m[k];
+    }
+    if (!several)
+        throw read_error(path, std::string("X3P absolute ") + name +
+                                   " axis: the valid points span one line, so the spacing is unknown");
+    const double spacing = (count * sum_nc - sum_n * sum_c) / (count * sum_nn - sum_n * sum_n);
+    const double start = (sum_c - spacing * sum_n) / count;
+    if (!(spacing > 0.0))
+        throw read_error(path, std::string("X3P absolute ") + name +
+                                   " axis decreases along the point order; only increasing grids are supported");
+    GridFit fit{spacing * 1e6, 0.0};
+    for (std::size_t k = 0; k < coordinate_m.size(); ++k) {
+        if (!valid[k]) continue;
+        const double deviation = std::fabs(coordinate_m[k] - (start + spacing * double(index_of(k)))) / spacing;
+        fit.largest_deviation = std::max(fit.largest_deviation, deviation);
+        if (deviation > kGridTolerance)
+            throw read_error(path, std::string("X3P absolute ") + name + " axis is not a regular grid: point " +
+                                       std::to_string(k) + " lies " + shortest_text(std::round(deviation * 1e3) / 1e3) +
+                                       " spacings off it (tolerance " + shortest_text(kGridTolerance) + ")");
+    }
+    return fit;
 }
 
 // ---- writing ----
@@ -591,37 +781,74 @@ Heightfield read_x3p(const std::string& path, const LoadOptions& options) {
     check_grid_size(layout.size_x, layout.size_y, path);
     const auto points = static_cast<std::size_t>(layout.size_x * layout.size_y);
 
-    StoredUnits stored;
-    stored.texel_um = layout.dx_um;
-    stored.height_unit = LengthUnit::m;
-    if (!options.texel_um && std::fabs(*layout.dx_um - *layout.dy_um) > 1e-6 * *layout.dx_um)
-        throw read_error(path, "the sample spacing differs in x (" + format_length(*layout.dx_um) + ") and y (" +
-                                   format_length(*layout.dy_um) + "); glintscope needs square texels");
-    const HeightConversion conversion = resolve_units(stored, options, path);
+    // The data's size is checked against the grid before the grid is allocated.
+    const bool listed = layout.data_link.empty();
+    std::string data, valid;
+    if (listed) {
+        if (const std::size_t count = count_data_list(layout.data_list); count != points)
+            throw read_error(path, "main.xml's DataList holds " + std::to_string(count) + " points, expected " +
+                                       std::to_string(points) + " for the grid in main.xml");
+    } else {
+        const std::size_t record = (layout.x.absolute ? byte_size(layout.x.type) : 0) +
+                                   (layout.y.absolute ? byte_size(layout.y.type) : 0) + byte_size(layout.z.type);
+        data = read_member(zip, folder, layout.data_link, points * record, path);
+        if (!layout.valid_link.empty()) valid = read_member(zip, folder, layout.valid_link, (points + 7) / 8, path);
+    }
+    const auto decode_points = [&](const auto& store_height) {
+        return listed ? decode_data_list(layout, points, path, store_height)
+                      : decode_binary(layout, data, valid, points, store_height);
+    };
 
-    const std::string data = read_member(zip, folder, layout.data_link, points * byte_size(layout.z_type), path);
-    const std::string valid =
-        layout.valid_link.empty() ? std::string() : read_member(zip, folder, layout.valid_link, (points + 7) / 8, path);
+    Provenance notes;
+    std::optional<double> dx_um = layout.x.increment_um;
+    std::optional<double> dy_um = layout.y.increment_um;
+    double square_tolerance = 1e-6;
+    if (layout.x.absolute || layout.y.absolute) {
+        std::vector<bool> valid_points(points);
+        const X3pPoints coordinates =
+            decode_points([&](std::size_t k, double metres) { valid_points[k] = !std::isnan(metres); });
+        std::string note;
+        for (const auto& [axis, name, along_x] : {std::tuple{&layout.x, "CX", true}, std::tuple{&layout.y, "CY", false}}) {
+            if (!axis->absolute) continue;
+            const GridFit fit = grid_from_absolute_axis(along_x ? coordinates.x : coordinates.y, valid_points,
+                                                        layout.size_x, along_x, name, path);
+            (along_x ? dx_um : dy_um) = fit.spacing_um;
+            note += std::string(note.empty() ? "" : "; ") + name + " absolute, read as a regular grid of spacing " +
+                    format_length(fit.spacing_um) + " (largest deviation " +
+                    shortest_text(std::round(fit.largest_deviation * 1e4) / 1e4) + " spacings)";
+        }
+        notes["x3p:axes"] = note;
+        // Spacings fitted from stored coordinates agree only to the coordinates' precision.
+        square_tolerance = 1e-4;
+    }
+    if (listed) notes["x3p:points"] = "listed in main.xml (Record3/DataList)";
+
+    StoredUnits stored;
+    stored.texel_um = dx_um;
+    stored.height_unit = LengthUnit::m;
+    if (!options.texel_um && std::fabs(*dx_um - *dy_um) > square_tolerance * *dx_um)
+        throw read_error(path, "the sample spacing differs in x (" + format_length(*dx_um) + ") and y (" +
+                                   format_length(*dy_um) + "); glintscope needs square texels");
+    const HeightConversion conversion = resolve_units(stored, options, path);
 
     const int rows = static_cast<int>(layout.size_y);
     const int cols = static_cast<int>(layout.size_x);
     Heightfield field = make_heightfield(rows, cols, conversion.texel_um);
     field.units_assumed = conversion.units_assumed;
     field.provenance = read_provenance(doc);
+    field.provenance.insert(notes.begin(), notes.end());
     // Annotation masks (PNG layers some tools add) have no meaning the standard fixes: not read,
     // but named, so that `info` tells the user what was left aside.
-    std::vector<std::string> used = {folder + "main.xml", folder + "md5checksum.hex", folder + layout.data_link};
+    std::vector<std::string> used = {folder + "main.xml", folder + "md5checksum.hex"};
+    if (!listed) used.push_back(folder + layout.data_link);
     if (!layout.valid_link.empty()) used.push_back(folder + layout.valid_link);
     if (const std::vector<std::string> others = zip.other_members(used); !others.empty())
         field.provenance["x3p:not_read"] = join(others);
-    for (int j = 0; j < rows; ++j) {
-        for (int i = 0; i < cols; ++i) {
-            const std::size_t index = static_cast<std::size_t>(j) * cols + i;
-            const bool is_valid = valid.empty() || (static_cast<unsigned char>(valid[index / 8]) >> (index % 8)) & 1u;
-            field.at(rows - 1 - j, i) = is_valid ? conversion.to_um(height_in_metres(layout, data, index))
-                                                 : std::numeric_limits<float>::quiet_NaN();
-        }
-    }
+    decode_points([&](std::size_t k, double metres) {
+        const auto j = static_cast<int>(k / cols);
+        const auto i = static_cast<int>(k % cols);
+        field.at(rows - 1 - j, i) = std::isnan(metres) ? std::numeric_limits<float>::quiet_NaN() : conversion.to_um(metres);
+    });
     return field;
 }
 

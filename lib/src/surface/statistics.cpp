@@ -186,8 +186,13 @@ std::vector<double> autocorrelation(const std::vector<double>& power, int length
 // autocorrelation of the zero-filled data by that of the mask (the number of valid pairs at each
 // lag), so drop-outs do not pull the estimate towards zero. NaN when the autocorrelation stays
 // above the threshold up to half the period, or the heights do not vary.
-double correlation_length(const PowerSums& sums, int length, double pairs_per_lag, double texel_um,
-                          double threshold) {
+struct CorrelationLength {
+    double length_um = kNotANumber;
+    double autocorrelation_at_half = kNotANumber;  // the last lag evaluated
+};
+
+CorrelationLength correlation_length(const PowerSums& sums, int length, double pairs_per_lag, double texel_um,
+                                     double threshold) {
     const std::vector<double> heights = autocorrelation(sums.heights, length);
     const std::vector<double> pairs =
         sums.mask.empty() ? std::vector<double>(length, pairs_per_lag) : autocorrelation(sums.mask, length);
@@ -195,7 +200,8 @@ double correlation_length(const PowerSums& sums, int length, double pairs_per_la
         return pairs[lag] > 0.5 ? heights[lag] / pairs[lag] : kNotANumber;
     };
     const double variance = covariance(0);
-    if (!(variance > 0.0)) return kNotANumber;
+    CorrelationLength result;
+    if (!(variance > 0.0)) return result;
     double previous = 1.0;
     int previous_lag = 0;
     for (int lag = 1; lag <= length / 2; ++lag) {
@@ -203,12 +209,14 @@ double correlation_length(const PowerSums& sums, int length, double pairs_per_la
         if (std::isnan(rho)) continue;
         if (rho <= threshold) {
             const double fraction = (previous - threshold) / (previous - rho);
-            return (previous_lag + fraction * (lag - previous_lag)) * texel_um;
+            result.length_um = (previous_lag + fraction * (lag - previous_lag)) * texel_um;
+            return result;
         }
         previous = rho;
         previous_lag = lag;
     }
-    return kNotANumber;
+    result.autocorrelation_at_half = previous;
+    return result;
 }
 
 }  // namespace
@@ -259,10 +267,14 @@ SurfaceStatistics compute_statistics(const Heightfield& field) {
                         store_deviation(field.at(r, static_cast<int>(c)), stats.mean_um, z, m, (c - begin) * pitch + r);
         });
     stats.correlation_threshold = kCorrelationThreshold;
-    stats.correlation_length_x_um = correlation_length(along_x, cols, static_cast<double>(rows) * cols,
-                                                       field.texel_um, kCorrelationThreshold);
-    stats.correlation_length_y_um = correlation_length(along_y, rows, static_cast<double>(rows) * cols,
-                                                       field.texel_um, kCorrelationThreshold);
+    const CorrelationLength x = correlation_length(along_x, cols, static_cast<double>(rows) * cols, field.texel_um,
+                                                   kCorrelationThreshold);
+    const CorrelationLength y = correlation_length(along_y, rows, static_cast<double>(rows) * cols, field.texel_um,
+                                                   kCorrelationThreshold);
+    stats.correlation_length_x_um = x.length_um;
+    stats.correlation_length_y_um = y.length_um;
+    stats.autocorrelation_at_half_x = x.autocorrelation_at_half;
+    stats.autocorrelation_at_half_y = y.autocorrelation_at_half;
     return stats;
 }
 

@@ -62,8 +62,10 @@ TEST(Statistics, SinusoidAutocorrelationIsACosine) {
     const Heightfield field = sinusoid_along_x(16, 256, texel, 0.3, 32.0);
     const SurfaceStatistics stats = compute_statistics(field);
     EXPECT_NEAR(stats.correlation_length_x_um, interpolated_cosine_crossing(64.0, texel), 1e-9);
-    // Along y the field never decorrelates.
+    // Along y the field never decorrelates: NaN, with the autocorrelation still 1 at half the field.
     EXPECT_TRUE(std::isnan(stats.correlation_length_y_um));
+    EXPECT_NEAR(stats.autocorrelation_at_half_y, 1.0, 1e-9);
+    EXPECT_TRUE(std::isnan(stats.autocorrelation_at_half_x));  // x did decay
 }
 
 TEST(Statistics, RowsRunAlongMinusY) {

@@ -3,6 +3,7 @@
 //   .exr .tif .tiff .png  images through OpenImageIO (one channel holds heights)
 //   .npy                  NumPy arrays, float32/float64, C order, 2-D
 //   .x3p                  ISO 25178-72 XML 3D surface profile (zip of main.xml + bindata/data.bin)
+//   anything else         through Gwyddion's library when the build has it
 // Files that carry no units (NPY, plain images) default to 1 µm texels and heights in µm, and
 // the returned field has units_assumed = true. EXR files written here carry the texel size,
 // units and provenance in their header, so they reload with units. Integer pixels are heights
@@ -23,6 +24,10 @@ struct LoadOptions {
     double height_scale = 1.0;               // multiplies heights after unit conversion
     bool periodic = false;                   // the file holds one tile of a periodic surface
 };
+
+// Whether this build reads the formats above and any other extension through Gwyddion's library
+// (.gwy, .sur, Sensofar, Keyence, Zygo, ...; -DGLINTSCOPE_GWYDDION=ON, docs/dependencies.md).
+bool reads_other_formats_through_gwyddion();
 
 // Throws Error with a one-line message naming the file and the problem (missing, corrupt,
 // truncated, empty, wrong channel, unsupported type, ...). Missing points load as NaN.

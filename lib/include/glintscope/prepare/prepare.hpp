@@ -179,6 +179,17 @@ OrientReport orient(Heightfield& field, const Orientation& orientation);
 // Parses "0", "90", "180" or "270"; throws Error (without option name) on anything else.
 int parse_rotation(const std::string& text);
 
+// ---- ISO 16610-61 Gaussian filters (lib/src/prepare/gaussian_filter.cpp) ------------------
+
+// The S-filter keeps the Gaussian mean surface of nesting index λs (removes wavelengths shorter
+// than about λs); the L-filter subtracts that of λc (removes wavelengths longer than about λc).
+// A sinusoid of wavelength λ passes at 50% amplitude. Missing points stay missing and, with the
+// border of a non-periodic field, are left out of the weighted mean (a normalised
+// convolution). Each records itself in the provenance. Throws Error for a nesting index that is
+// not a positive length or is more than 20 times the field.
+void apply_s_filter(Heightfield& field, double nesting_um);
+void apply_l_filter(Heightfield& field, double nesting_um);
+
 // ---- Reports -----------------------------------------------------------------------------
 
 // One line each, e.g. "fill_missing: 1234 points (0.4%), biharmonic inpainting, ..." — the

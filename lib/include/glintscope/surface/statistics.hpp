@@ -21,6 +21,10 @@ struct SurfaceStatistics {
     double correlation_length_x_um = 0.0;
     double correlation_length_y_um = 0.0;
     double correlation_threshold = 0.0;
+    // The normalised autocorrelation at the largest lag evaluated (half the field) along x (y):
+    // what a correlation length reported as NaN still reached there.
+    double autocorrelation_at_half_x = 0.0;
+    double autocorrelation_at_half_y = 0.0;
     std::size_t missing_count = 0;
     double missing_fraction = 0.0;
 };

@@ -1,0 +1,488 @@
+#include "glintscope/surface/areal_parameters.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "numerics/chirp_z.hpp"
+#include "numerics/fftw_plans.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/core/parallel.hpp"
+#include "glintscope/core/text_format.hpp"
+
+namespace glintscope {
+namespace {
+
+constexpr std::size_t kRowsPerChunk = 32;
+constexpr std::size_t kColumnsPerBlock = 16;
+constexpr int kDirections = 360;    // rays every 0.5° over [0°, 180°): f(t) = f(−t)
+constexpr int kAngularBins = 180;   // 1° bins of the angular spectrum
+constexpr double kRayStep = 0.25;   // in texels
+
+// ---- height and hybrid parameters ----
+
+struct Moments {
+    std::size_t valid = 0;
+    double sum = 0.0;
+};
+
+struct Deviations {
+    double squares = 0.0, cubes = 0.0, fourths = 0.0, absolutes = 0.0;
+    double lowest = std::numeric_limits<double>::infinity();
+    double highest = -std::numeric_limits<double>::infinity();
+    std::size_t gradients = 0;
+    double gradient_squares = 0.0;
+    double area_excess = 0.0;  // Σ √(1 + |∇z|²) − 1
+};
+
+double mean_height(const Heightfield& field) {
+    const std::size_t chunks = (field.rows + kRowsPerChunk - 1) / kRowsPerChunk;
+    std::vector<Moments> partial(chunks);
+    parallel_for(field.rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+        Moments sums;
+        for (std::size_t i = begin * field.cols; i < end * field.cols; ++i) {
+            const double h = field.heights_um[i];
+            if (std::isnan(h)) continue;
+            ++sums.valid;
+            sums.sum += h;
+        }
+        partial[begin / kRowsPerChunk] = sums;
+    });
+    Moments total;
+    for (const Moments& sums : partial) {
+        total.valid += sums.valid;
+        total.sum += sums.sum;
+    }
+    if (total.valid < 2) throw Error("areal parameters need at least 2 valid heights");
+    return total.sum / static_cast<double>(total.valid);
+}
+
+// The neighbour of index i at offset ±1 along an axis of n samples: wraps on periodic fields,
+// -1 outside a non-periodic one.
+int neighbour(int i, int offset, int n, bool periodic) {
+    const int j = i + offset;
+    if (j >= 0 && j < n) return j;
+    return periodic ? (j + n) % n : -1;
+}
+
+Deviations deviations(const Heightfield& field, double mean, double dx, double dy) {
+    const int rows = field.rows;
+    const int cols = field.cols;
+    const std::size_t chunks = (rows + kRowsPerChunk - 1) / kRowsPerChunk;
+    std::vector<Deviations> partial(chunks);
+    parallel_for(rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+        Deviations sums;
+        for (int r = static_cast<int>(begin); r < static_cast<int>(end); ++r) {
+            const int up = neighbour(r, -1, rows, field.periodic);
+            const int down = neighbour(r, 1, rows, field.periodic);
+            for (int c = 0; c < cols; ++c) {
+                const double h = field.at(r, c);
+                if (std::isnan(h)) continue;
+                const double z = h - mean;
+                sums.squares += z * z;
+                sums.cubes += z * z * z;
+                sums.fourths += z * z * z * z;
+                sums.absolutes += std::fabs(z);
+                sums.lowest = std::min(sums.lowest, z);
+                sums.highest = std::max(sums.highest, z);
+                const int left = neighbour(c, -1, cols, field.periodic);
+                const int right = neighbour(c, 1, cols, field.periodic);
+                if (left < 0 || right < 0 || up < 0 || down < 0) continue;
+                const double zx = (field.at(r, right) - field.at(r, left)) / (2.0 * dx);
+                const double zy = (field.at(up, c) - field.at(down, c)) / (2.0 * dy);  // row r − 1 is at larger y
+                if (std::isnan(zx) || std::isnan(zy)) continue;
+                const double slope_squared = zx * zx + zy * zy;
+                ++sums.gradients;
+                sums.gradient_squares += slope_squared;
+                // √(1+g²) − 1 written as g² / (√(1+g²) + 1): no cancellation for small slopes.
+                sums.area_excess += slope_squared / (std::sqrt(1.0 + slope_squared) + 1.0);
+            }
+        }
+        partial[begin / kRowsPerChunk] = sums;
+    });
+    Deviations total;
+    for (const Deviations& sums : partial) {
+        total.squares += sums.squares;
+        total.cubes += sums.cubes;
+        total.fourths += sums.fourths;
+        total.absolutes += sums.absolutes;
+        total.lowest = std::min(total.lowest, sums.lowest);
+        total.highest = std::max(total.highest, sums.highest);
+        total.gradients += sums.gradients;
+        total.gradient_squares += sums.gradient_squares;
+        total.area_excess += sums.area_excess;
+    }
+    return total;
+}
+
+// ---- 2-D transforms as batches of 1-D ones (fixed chunks: thread-count independent) ----
+
+// A padded_rows × padded_cols real array held as its half spectrum: row r's r2c transform at
+// data + r·stride (stride a multiple of 4 complex values, so every row keeps the planning
+// array's 32-byte alignment).
+struct HalfSpectrum {
+    int rows = 0;
+    int cols = 0;
+    std::size_t stride = 0;
+    FftwBuffer<fftwf_complex> data;
+
+    std::size_t bins() const { return static_cast<std::size_t>(cols) / 2 + 1; }
+    float* real_row(int r) { return reinterpret_cast<float*>(data.get() + static_cast<std::size_t>(r) * stride); }
+    const float* real_row(int r) const {
+        return reinterpret_cast<const float*>(data.get() + static_cast<std::size_t>(r) * stride);
+    }
+};
+
+// Rows 0..filled_rows−1 from fill_row(r, out) (out has padded_cols floats, pre-zeroed), the rest
+// zero; each row transformed in place (r2c), then each column transformed (c2c forward) and
+// handed to column_op(k, column, rows, block_index), which may change it and whose changes are
+// stored back.
+template <typename FillRow, typename ColumnOp>
+HalfSpectrum forward_2d(int padded_rows, int padded_cols, int filled_rows, const FillRow& fill_row,
+                        const ColumnOp& column_op) {
+    HalfSpectrum spectrum;
+    spectrum.rows = padded_rows;
+    spectrum.cols = padded_cols;
+    spectrum.stride = (spectrum.bins() + 3) & ~std::size_t{3};
+    spectrum.data = make_fftw_buffer<fftwf_complex>(spectrum.stride * static_cast<std::size_t>(padded_rows));
+    auto plan_row = make_fftw_buffer<fftwf_complex>(spectrum.stride);
+    const FftwfPlan row_plan([&] {
+        return fftwf_plan_dft_r2c_1d(padded_cols, reinterpret_cast<float*>(plan_row.get()), plan_row.get(),
+                                     FFTW_ESTIMATE);
+    });
+    parallel_for(padded_rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r) {
+            float* row = spectrum.real_row(static_cast<int>(r));
+            std::fill(row, row + 2 * spectrum.stride, 0.0f);
+            if (static_cast<int>(r) >= filled_rows) continue;
+            fill_row(static_cast<int>(r), row);
+            fftwf_execute_dft_r2c(row_plan.get(), row, reinterpret_cast<fftwf_complex*>(row));
+        }
+    });
+    auto plan_column = make_fftw_buffer<fftwf_complex>(static_cast<std::size_t>(padded_rows));
+    const FftwfPlan column_plan([&] {
+        return fftwf_plan_dft_1d(padded_rows, plan_column.get(), plan_column.get(), FFTW_FORWARD, FFTW_ESTIMATE);
+    });
+    const std::size_t bins = spectrum.bins();
+    parallel_for(bins, kColumnsPerBlock, [&](std::size_t begin, std::size_t end) {
+        const std::size_t count = end - begin;
+        fftwf_complex* block = thread_scratch<fftwf_complex>(0, count * padded_rows);
+        for (int r = 0; r < padded_rows; ++r)
+            for (std::size_t k = begin; k < end; ++k) {
+                const fftwf_complex& value = spectrum.data[r * spectrum.stride + k];
+                block[(k - begin) * padded_rows + r][0] = value[0];
+                block[(k - begin) * padded_rows + r][1] = value[1];
+            }
+        for (std::size_t k = begin; k < end; ++k) {
+            fftwf_complex* column = block + (k - begin) * padded_rows;
+            fftwf_execute_dft(column_plan.get(), column, column);
+            column_op(k, column, padded_rows, begin / kColumnsPerBlock);
+        }
+        for (int r = 0; r < padded_rows; ++r)
+            for (std::size_t k = begin; k < end; ++k) {
+                fftwf_complex& value = spectrum.data[r * spectrum.stride + k];
+                value[0] = block[(k - begin) * padded_rows + r][0];
+                value[1] = block[(k - begin) * padded_rows + r][1];
+            }
+    });
+    return spectrum;
+}
+
+// The circular autocorrelation (unnormalised) of the array fill_row describes, for the lags
+// |t_row| ≤ max_row_lag: |FFT|² transformed back, rows read through real_row(lag mod rows).
+template <typename FillRow>
+HalfSpectrum autocorrelation_2d(int padded_rows, int padded_cols, int filled_rows, int max_row_lag,
+                                const FillRow& fill_row) {
+    auto plan_column = make_fftw_buffer<fftwf_complex>(static_cast<std::size_t>(padded_rows));
+    const FftwfPlan inverse_column_plan([&] {
+        return fftwf_plan_dft_1d(padded_rows, plan_column.get(), plan_column.get(), FFTW_BACKWARD, FFTW_ESTIMATE);
+    });
+    HalfSpectrum spectrum = forward_2d(
+        padded_rows, padded_cols, filled_rows, fill_row,
+        [&](std::size_t, fftwf_complex* column, int rows, std::size_t) {
+            for (int r = 0; r < rows; ++r) {
+                column[r][0] = column[r][0] * column[r][0] + column[r][1] * column[r][1];
+                column[r][1] = 0.0f;
+            }
+            fftwf_execute_dft(inverse_column_plan.get(), column, column);
+        });
+    auto plan_row = make_fftw_buffer<fftwf_complex>(spectrum.stride);
+    const FftwfPlan inverse_row_plan([&] {
+        return fftwf_plan_dft_c2r_1d(padded_cols, plan_row.get(), reinterpret_cast<float*>(plan_row.get()),
+                                     FFTW_ESTIMATE);
+    });
+    // Only the rows of lags −max_row_lag..max_row_lag are read.
+    std::vector<int> needed;
+    for (int lag = -max_row_lag; lag <= max_row_lag; ++lag) needed.push_back((lag + padded_rows) % padded_rows);
+    std::sort(needed.begin(), needed.end());
+    needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+    parallel_for(needed.size(), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            fftwf_complex* row = spectrum.data.get() + static_cast<std::size_t>(needed[i]) * spectrum.stride;
+            fftwf_execute_dft_c2r(inverse_row_plan.get(), row, reinterpret_cast<float*>(row));
+        }
+    });
+    return spectrum;
+}
+
+// ---- the autocorrelation function and its decay along rays ----
+
+class Autocorrelation {
+public:
+    Autocorrelation(const Heightfield& field, double mean) : field_(field) {
+        rows_ = field.rows;
+        cols_ = field.cols;
+        max_row_lag_ = rows_ / 2;
+        max_col_lag_ = cols_ / 2;
+        // Zero padding by half the field makes the circular sums the sums over pairs inside
+        // the field for every evaluated lag; a periodic field is its own continuation.
+        padded_rows_ = field.periodic ? rows_ : smooth_fft_size(rows_ + max_row_lag_ + 1);
+        padded_cols_ = field.periodic ? cols_ : smooth_fft_size(cols_ + max_col_lag_ + 1);
+        const bool missing = std::any_of(field.heights_um.begin(), field.heights_um.end(),
+                                         [](float h) { return std::isnan(h); });
+        heights_ = autocorrelation_2d(padded_rows_, padded_cols_, rows_, max_row_lag_, [&](int r, float* out) {
+            for (int c = 0; c < cols_; ++c) {
+                const float h = field.at(r, c);
+                out[c] = std::isnan(h) ? 0.0f : static_cast<float>(h - mean);
+            }
+        });
+        if (missing)
+            pairs_ = autocorrelation_2d(padded_rows_, padded_cols_, rows_, max_row_lag_, [&](int r, float* out) {
+                for (int c = 0; c < cols_; ++c) out[c] = std::isnan(field.at(r, c)) ? 0.0f : 1.0f;
+            });
+        variance_ = covariance(0, 0);
+    }
+
+    int max_row_lag() const { return max_row_lag_; }
+    int max_col_lag() const { return max_col_lag_; }
+
+    // f at the integer lag (row_lag, col_lag) in samples; NaN where no pair of valid points has it.
+    double at(int row_lag, int col_lag) const { return covariance(row_lag, col_lag) / variance_; }
+
+    // f at a fractional lag, bilinear between the four integer lags around it.
+    double interpolate(double row_lag, double col_lag) const {
+        const double r0 = std::floor(row_lag);
+        const double c0 = std::floor(col_lag);
+        const double fr = row_lag - r0;
+        const double fc = col_lag - c0;
+        const int r = static_cast<int>(r0);
+        const int c = static_cast<int>(c0);
+        return (1 - fr) * ((1 - fc) * at(r, c) + fc * at(r, c + 1)) + fr * ((1 - fc) * at(r + 1, c) + fc * at(r + 1, c + 1));
+    }
+
+private:
+    double covariance(int row_lag, int col_lag) const {
+        row_lag = std::clamp(row_lag, -max_row_lag_, max_row_lag_);
+        col_lag = std::clamp(col_lag, -max_col_lag_, max_col_lag_);
+        const int r = (row_lag + padded_rows_) % padded_rows_;
+        const int c = (col_lag + padded_cols_) % padded_cols_;
+        const double sum = heights_.real_row(r)[c];
+        double pairs = 0.0;
+        if (pairs_.data) {
+            pairs = pairs_.real_row(r)[c];
+            // The transforms carry a factor padded_rows·padded_cols on both sums.
+            if (pairs < 0.5 * padded_rows_ * double(padded_cols_)) return std::numeric_limits<double>::quiet_NaN();
+        } else {
+            pairs = field_.periodic ? double(rows_) * cols_ : double(rows_ - std::abs(row_lag)) * (cols_ - std::abs(col_lag));
+            pairs *= double(padded_rows_) * padded_cols_;
+        }
+        return sum / pairs;
+    }
+
+    const Heightfield& field_;
+    int rows_ = 0, cols_ = 0, padded_rows_ = 0, padded_cols_ = 0, max_row_lag_ = 0, max_col_lag_ = 0;
+    HalfSpectrum heights_;
+    HalfSpectrum pairs_;
+    double variance_ = 1.0;
+};
+
+struct RayDecay {
+    double length_um = 0.0;       // where f first reaches the threshold, or the last lag evaluated
+    bool decayed = false;
+    double last_value = 1.0;      // f at the last lag evaluated (when it did not decay)
+};
+
+// Marches along direction θ (from +x, counter-clockwise, y up) in steps of a quarter texel
+// until f falls to `threshold` (linear between steps) or the ray leaves the evaluated lags.
+RayDecay decay_along(const Autocorrelation& acf, double theta, double dx, double dy, double threshold) {
+    const double step = kRayStep * std::min(dx, dy);
+    const double ux = std::cos(theta), uy = std::sin(theta);
+    const double max_x = acf.max_col_lag() * dx, max_y = acf.max_row_lag() * dy;
+    RayDecay decay;
+    double previous = 1.0, previous_r = 0.0;
+    for (int k = 1;; ++k) {
+        const double r = k * step;
+        const double x = r * ux, y = r * uy;
+        if (std::fabs(x) > max_x || std::fabs(y) > max_y) break;
+        const double value = acf.interpolate(-y / dy, x / dx);  // rows run towards −y
+        if (std::isnan(value)) continue;
+        if (value <= threshold) {
+            decay.decayed = true;
+            decay.length_um = previous_r + (previous - threshold) / (previous - value) * (r - previous_r);
+            return decay;
+        }
+        previous = value;
+        previous_r = r;
+    }
+    decay.length_um = previous_r;
+    decay.last_value = previous;
+    return decay;
+}
+
+void spatial_parameters(const Heightfield& field, double mean, double dx, double dy, ArealParameters& p) {
+    const Autocorrelation acf(field, mean);
+    p.max_lag_x_um = acf.max_col_lag() * dx;
+    p.max_lag_y_um = acf.max_row_lag() * dy;
+    std::vector<RayDecay> rays(kDirections);
+    parallel_for(kDirections, 8, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i)
+            rays[i] = decay_along(acf, pi * static_cast<double>(i) / kDirections, dx, dy, p.threshold);
+    });
+    const auto degrees = [](std::size_t i) { return 180.0 * static_cast<double>(i) / kDirections; };
+    int fastest = -1, slowest_decayed = -1, slowest_open = -1, fastest_open = -1;
+    for (int i = 0; i < kDirections; ++i) {
+        if (rays[i].decayed) {
+            if (fastest < 0 || rays[i].length_um < rays[fastest].length_um) fastest = i;
+            if (slowest_decayed < 0 || rays[i].length_um > rays[slowest_decayed].length_um) slowest_decayed = i;
+        } else {
+            // Of the directions that do not decay, the slowest keeps the highest autocorrelation
+            // at the end of its ray, the fastest the lowest.
+            if (slowest_open < 0 || rays[i].last_value > rays[slowest_open].last_value) slowest_open = i;
+            if (fastest_open < 0 || rays[i].last_value < rays[fastest_open].last_value) fastest_open = i;
+        }
+    }
+    // Sal: the fastest decay; when no direction decays within the lags, it exceeds the length
+    // of the ray that fell furthest.
+    const int sal = fastest >= 0 ? fastest : fastest_open;
+    p.sal_um = rays[sal].length_um;
+    p.sal_is_lower_bound = fastest < 0;
+    p.sal_direction_deg = degrees(sal);
+    p.sal_autocorrelation_at_edge = rays[sal].decayed ? p.threshold : rays[sal].last_value;
+    // The slowest decay: a lower bound when some direction never decays.
+    const int longest = slowest_open >= 0 ? slowest_open : slowest_decayed;
+    p.longest_decay_um = rays[longest].length_um;
+    p.longest_is_lower_bound = slowest_open >= 0;
+    p.longest_direction_deg = degrees(longest);
+    p.longest_autocorrelation_at_edge = rays[longest].decayed ? p.threshold : rays[longest].last_value;
+    p.str = p.sal_um / p.longest_decay_um;
+    p.str_is_upper_bound = p.longest_is_lower_bound && !p.sal_is_lower_bound;
+}
+
+// ---- texture direction ----
+
+// Tile origins along an axis of n samples: whole tiles from 0, and one more ending at n when
+// they do not cover it.
+std::vector<int> tile_starts(int n, int tile) {
+    std::vector<int> starts;
+    for (int start = 0; start + tile <= n; start += tile) starts.push_back(start);
+    if (starts.back() + tile < n) starts.push_back(n - tile);
+    return starts;
+}
+
+// The angular power spectrum, from the power spectra of tiles of at most kSpectrumTile² samples
+// averaged (Welch's method: the binning then runs once over one tile's frequencies, and the
+// average is smoother than one large periodogram). Each tile is Hann-windowed so that its
+// borders do not paint a cross on the spectrum, except a tile that is a whole periodic field.
+constexpr int kSpectrumTile = 1024;
+
+double texture_direction_deg(const Heightfield& field, double mean, double dx, double dy) {
+    const int rows = std::min(field.rows, kSpectrumTile), cols = std::min(field.cols, kSpectrumTile);
+    const bool whole_tile = field.periodic && rows == field.rows && cols == field.cols;
+    std::vector<float> window_x(cols, 1.0f), window_y(rows, 1.0f);
+    if (!whole_tile) {
+        for (int c = 0; c < cols; ++c) window_x[c] = static_cast<float>(std::pow(std::sin(pi * (c + 0.5) / cols), 2));
+        for (int r = 0; r < rows; ++r) window_y[r] = static_cast<float>(std::pow(std::sin(pi * (r + 0.5) / rows), 2));
+    }
+    const int bins_x = cols / 2 + 1;
+    std::vector<double> power(static_cast<std::size_t>(bins_x) * rows, 0.0);  // [k][j]
+    for (const int top : tile_starts(field.rows, rows))
+        for (const int left : tile_starts(field.cols, cols))
+            forward_2d(
+                rows, cols, rows,
+                [&](int r, float* out) {
+                    for (int c = 0; c < cols; ++c) {
+                        const float h = field.at(top + r, left + c);
+                        out[c] = std::isnan(h) ? 0.0f : static_cast<float>(h - mean) * window_x[c] * window_y[r];
+                    }
+                },
+                [&](std::size_t k, fftwf_complex* column, int n, std::size_t) {
+                    double* into = power.data() + k * n;
+                    for (int j = 0; j < n; ++j) into[j] += double(column[j][0]) * column[j][0] + double(column[j][1]) * column[j][1];
+                });
+    // Each frequency cell's power is spread over the angles the cell subtends (about its width over
+    // its radius): binned by its centre alone, the few cells near the origin, which carry most of
+    // the power, would crowd the axes' and diagonals' bins and give an isotropic surface a lay.
+    const double cell = std::sqrt(1.0 / (cols * dx) / (rows * dy));
+    std::array<double, kAngularBins> spectrum{};
+    const auto deposit = [&spectrum](double angle, double half_width, double value) {
+        const double low = angle - half_width, high = angle + half_width;
+        for (int b = static_cast<int>(std::floor(low + 0.5)); b <= static_cast<int>(std::floor(high + 0.5)); ++b) {
+            const double overlap = std::min(high, b + 0.5) - std::max(low, b - 0.5);
+            if (overlap > 0.0) spectrum[((b % kAngularBins) + kAngularBins) % kAngularBins] += value * overlap / (high - low);
+        }
+    };
+    for (int k = 0; k < bins_x; ++k) {
+        // Each k > 0 below the Nyquist column also stands for its mirror −k.
+        const double weight = (k == 0 || 2 * k == cols) ? 1.0 : 2.0;
+        const double u = k / (0.5 * cols);
+        for (int j = 0; j < rows; ++j) {
+            const int row_frequency = j <= rows / 2 ? j : j - rows;
+            const double v = row_frequency / (0.5 * rows);
+            if ((k == 0 && row_frequency == 0) || u * u + v * v > 1.0) continue;
+            const double fx = k / (cols * dx);
+            const double fy = -row_frequency / (rows * dy);  // rows run towards −y
+            double angle = std::atan2(fy, fx) * 180.0 / pi;
+            if (angle < 0.0) angle += 180.0;
+            const double half_width = std::min(90.0, 0.5 * cell / std::hypot(fx, fy) * 180.0 / pi);
+            deposit(angle, half_width, weight * power[k * rows + j]);
+        }
+    }
+    const int peak = static_cast<int>(std::max_element(spectrum.begin(), spectrum.end()) - spectrum.begin());
+    // A parabola through the peak bin and its (circular) neighbours places the maximum between bins.
+    const double before = spectrum[(peak + kAngularBins - 1) % kAngularBins];
+    const double after = spectrum[(peak + 1) % kAngularBins];
+    const double curvature = before - 2.0 * spectrum[peak] + after;
+    const double shift = curvature < 0.0 ? 0.5 * (before - after) / curvature : 0.0;
+    double lay = peak + shift + 90.0;  // the lay runs perpendicular to the spectrum's maximum
+    while (lay > 90.0) lay -= 180.0;
+    while (lay <= -90.0) lay += 180.0;
+    return lay;
+}
+
+}  // namespace
+
+ArealParameters compute_areal_parameters(const Heightfield& field, double threshold) {
+    validate(field, "areal parameters", /*allow_missing=*/true);
+    if (!(threshold > 0.0 && threshold < 1.0))
+        throw Error("the autocorrelation threshold s must lie between 0 and 1, got " + shortest_text(threshold));
+    const bool periodic = field.periodic;
+    if (!periodic && (field.rows < 3 || field.cols < 3))
+        throw Error("areal parameters need at least 3 x 3 samples (slopes need both neighbours)");
+    const double dx = field.texel_um, dy = field.texel_um;
+    const double mean = mean_height(field);
+    const Deviations d = deviations(field, mean, dx, dy);
+    std::size_t valid = 0;
+    for (float h : field.heights_um) valid += std::isnan(h) ? 0 : 1;
+    const double n = static_cast<double>(valid);
+    ArealParameters p;
+    p.threshold = threshold;
+    p.sq_um = std::sqrt(d.squares / n);
+    if (!(p.sq_um > 0.0)) throw Error("areal parameters need heights that vary (Sq = 0)");
+    p.ssk = d.cubes / n / (p.sq_um * p.sq_um * p.sq_um);  // ISO 25178-2 §4.1.3
+    p.sku = d.fourths / n / (p.sq_um * p.sq_um * p.sq_um * p.sq_um);  // ISO 25178-2 §4.1.4
+    p.sp_um = d.highest;
+    p.sv_um = -d.lowest;
+    p.sz_um = p.sp_um + p.sv_um;
+    p.sa_um = d.absolutes / n;
+    if (d.gradients == 0) throw Error("areal parameters need valid slopes (no valid point has valid neighbours)");
+    p.sdq = std::sqrt(d.gradient_squares / static_cast<double>(d.gradients));  // ISO 25178-2 §4.3.1
+    p.sdr = d.area_excess / static_cast<double>(d.gradients);                     // ISO 25178-2 §4.3.2
+    spatial_parameters(field, mean, dx, dy, p);
+    p.std_deg = texture_direction_deg(field, mean, dx, dy);
+    return p;
+}
+
+}  // namespace glintscope
