@@ -31,9 +31,10 @@ TEST(ResourceLimits, AHugeImageIsRefusedWithItsSize) {
 TEST(ResourceLimits, AnFftGridBeyondItsLimitIsRefusedWithTheEstimate) {
     LobeQuery query = testing::flat_query();
     query.footprint.sigma_um = 30.0;  // support 3.25·30 µm: needs a periodic field
-    query.method_options["step"] = "0.03um";  // 4σ window: 8000 samples per axis, 6.4·10^7 in all
+    query.method_options["step"] = "0.03um";  // 4σ window: 8000 samples per axis, 6.4·10^7 in all (~2.6 GB)
+    query.memory_budget_gb = 1.0;
     const std::string message = compute_error("fft", query);
-    EXPECT_NE(message.find("GB (limit 2^23 samples, about 0.6 GB)"), std::string::npos) << message;
+    EXPECT_NE(message.find("GB, beyond the memory budget of 1 GB (--memory)"), std::string::npos) << message;
 }
 
 TEST(ResourceLimits, NonFiniteAndNegativeQueryValuesAreRefused) {
