@@ -15,6 +15,15 @@ struct SurfacePoint {
     double dh_dy = 0.0;   // ∂H/∂y
 };
 
+// The Hessian H'' of the interpolant, 1/µm. Catmull–Rom is C¹ only: across a sample line the
+// second derivative along its normal jumps, and there the mean of its two one-sided values is
+// taken (the mixed derivative is continuous).
+struct SurfaceCurvature {
+    double d2h_dx2 = 0.0;
+    double d2h_dxdy = 0.0;
+    double d2h_dy2 = 0.0;
+};
+
 class BicubicInterpolant {
 public:
     // The field must have no missing points (fill them first); throws Error otherwise.
@@ -46,6 +55,12 @@ public:
         return {row[c], (-0.5 * row[left] + 0.5 * row[right]) * inverse_texel_,
                 (-0.5 * below[c] + 0.5 * above[c]) * inverse_texel_};
     }
+    // H'' at s (µm), as SurfaceCurvature describes.
+    SurfaceCurvature curvature(double x_um, double y_um) const;
+    // curvature() at the sample (c, j), 0 ≤ c < cols(), 0 ≤ j < rows() (y-up): the one-sided second
+    // derivatives' mean (−½, 3, −5, 3, −½)/dx² along each axis, the mixed one (H(c+1, j+1) −
+    // H(c−1, j+1) − H(c+1, j−1) + H(c−1, j−1))/(4dx²).
+    SurfaceCurvature sample_curvature(int c, int j) const;
     // The samples of y-up row j (0 ≤ j < rows()), cols() of them, for code that tests many
     // samples' central differences at once.
     const float* sample_row(int j) const { return grid_.data() + static_cast<std::size_t>(j) * cols_; }

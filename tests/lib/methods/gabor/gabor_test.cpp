@@ -71,7 +71,7 @@ std::complex<double> transform_by_quadrature(const GaborKernel& kernel, Point2 v
 }
 
 TEST(GaborKernel, TransformMatchesQuadratureAndNotTheMisprint) {
-    const GaborKernel kernel{{3.2, -1.7}, 0.5, {0.8, -0.3}};
+    const GaborKernel kernel{{3.2, -1.7}, 0.5, {0.8, -0.3}, {}};
     double worst_misprint_error = 0.0;
     for (const Point2 v : {Point2{-0.8, 0.3}, Point2{-0.5, 0.1}, Point2{0.2, 0.4}, Point2{-1.3, 0.9}}) {
         const std::complex<double> numeric = transform_by_quadrature(kernel, v);
