@@ -178,8 +178,8 @@ namespace {
 
 // Five samples along one axis around a coordinate, with the Catmull–Rom weights of the value,
 // first and second derivative in sample units. Off a sample line only the first four are used
-// (the fifth weighs 0); on one (t = 0) the second derivative is the mean of the left cell's
-// value at t = 1 and the right cell's at t = 0.
+// (the fifth weighs 0); on one (t = 0), where the cubic's second derivative jumps, it is the second
+// difference (1, −2, 1) (interpolant.hpp).
 struct CurvatureTaps {
     int index[5];
     double w[5];
@@ -197,7 +197,7 @@ CurvatureTaps curvature_taps(double s_um, double texel_um, int count) {
         for (int k = 0; k < 5; ++k) taps.index[k] = wrap(first + k - 2, count);
         const double w[5] = {0.0, 0.0, 1.0, 0.0, 0.0};
         const double dw[5] = {0.0, -0.5, 0.0, 0.5, 0.0};
-        const double d2w[5] = {-0.5, 3.0, -5.0, 3.0, -0.5};
+        const double d2w[5] = {0.0, 1.0, -2.0, 1.0, 0.0};
         std::copy(w, w + 5, taps.w);
         std::copy(dw, dw + 5, taps.dw);
         std::copy(d2w, d2w + 5, taps.d2w);
@@ -245,8 +245,8 @@ SurfaceCurvature BicubicInterpolant::sample_curvature(int c, int j) const {
         return static_cast<double>(sample_row(wrap(j + dj, rows_))[wrap(c + dc, cols_)]);
     };
     const double scale = inverse_texel_ * inverse_texel_;
-    const double hxx = -0.5 * at(-2, 0) + 3.0 * at(-1, 0) - 5.0 * at(0, 0) + 3.0 * at(1, 0) - 0.5 * at(2, 0);
-    const double hyy = -0.5 * at(0, -2) + 3.0 * at(0, -1) - 5.0 * at(0, 0) + 3.0 * at(0, 1) - 0.5 * at(0, 2);
+    const double hxx = at(-1, 0) - 2.0 * at(0, 0) + at(1, 0);
+    const double hyy = at(0, -1) - 2.0 * at(0, 0) + at(0, 1);
     const double hxy = 0.25 * (at(1, 1) - at(-1, 1) - at(1, -1) + at(-1, -1));
     return {hxx * scale, hxy * scale, hyy * scale};
 }
