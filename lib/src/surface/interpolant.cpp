@@ -244,7 +244,7 @@ SurfaceCurvature BicubicInterpolant::sample_curvature(int c, int j) const {
     const auto at = [&](int dc, int dj) {
         return static_cast<double>(sample_row(wrap(j + dj, rows_))[wrap(c + dc, cols_)]);
     };
-    const double scale = inverse_texel_ * inverse_texel_;
+    const double scale = 1.0 / (texel_um_ * texel_um_);
     const double hxx = at(-1, 0) - 2.0 * at(0, 0) + at(1, 0);
     const double hyy = at(0, -1) - 2.0 * at(0, 0) + at(0, 1);
     const double hxy = 0.25 * (at(1, 1) - at(-1, 1) - at(1, -1) + at(-1, -1));

@@ -101,7 +101,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default")))
 void sum_kernel_terms(const KernelArrays& k, std::size_t begin, std::size_t end, const TransformPoint& point,
                       double reach, double beta, double& out_re, double& out_im) {
     const double reach2 = reach * reach;
-    const auto add = [&](std::size_t i, auto& re, auto& im) {
+    const auto add = [&](std::size_t i, auto& re, auto& im) __attribute__((always_inline)) {
         using T = std::decay_t<decltype(re)>;
         add_term(lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]), lanes<T>(&k.slope_x[i]),
                  lanes<T>(&k.slope_y[i]), lanes<T>(&k.weight[i]), point, reach2, beta, re, im);
@@ -127,21 +127,22 @@ template <typename T>
     // det M = (1 + iE_xx)(1 + iE_yy) + E_xy², uᵀM⁻¹u = uᵀ adj(M) u / det M.
     const T det_re = 1.0 - (exx * eyy - exy * exy);
     const T det_im = exx + eyy;
-    const T det_norm2 = det_re * det_re + det_im * det_im;
-    const T det_abs = sqrt_of(det_norm2);
+    const T inverse_norm2 = 1.0 / (det_re * det_re + det_im * det_im);
+    const T inverse_abs = sqrt_of(inverse_norm2);  // 1/|det M|
+    const T det_abs = (det_re * det_re + det_im * det_im) * inverse_abs;
     const T ux2 = ux * ux;
     const T uy2 = uy * uy;
     const T num_re = ux2 + uy2;
     const T num_im = eyy * ux2 - 2.0 * exy * ux * uy + exx * uy2;
-    const T q_re = (num_re * det_re + num_im * det_im) / det_norm2;
-    const T q_im = (num_im * det_re - num_re * det_im) / det_norm2;
+    const T q_re = (num_re * det_re + num_im * det_im) * inverse_norm2;
+    const T q_im = (num_im * det_re - num_re * det_im) * inverse_norm2;
     // det^{−1/2} = conj(√det)/|det|, √det = (r, det_im/(2r)), r = √((|det| + det_re)/2) > 0.
     const T root_re = sqrt_of(0.5 * (det_abs + det_re));
     const T root_im = det_im / (2.0 * root_re);
     // Inside the widened box β Re(uᵀM⁻¹u) may exceed exp_neg's range; e^{−25} ≈ 1.4e-11 of a peak
     // stands for anything smaller.
     const T exponent = min_of(beta * q_re, T{} + 25.0);
-    const T amplitude = weight * xi2 * gabor_math::exp_neg(exponent) / det_abs;
+    const T amplitude = weight * xi2 * gabor_math::exp_neg(exponent) * inverse_abs;
     T cos_phase;
     T sin_phase;
     gabor_math::cos_sin_turns(point.xi3_over_lambda * height + px * point.vx + py * point.vy +
@@ -161,7 +162,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default")))
 void sum_chirped_terms(const KernelArrays& k, std::size_t begin, std::size_t end, const TransformPoint& point,
                        double reach, double beta, double chirp_scale, double& out_re, double& out_im) {
     const double reach2 = reach * reach;
-    const auto add = [&](std::size_t i, auto& re, auto& im) {
+    const auto add = [&](std::size_t i, auto& re, auto& im) __attribute__((always_inline)) {
         using T = std::decay_t<decltype(re)>;
         add_chirped_term(lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]), lanes<T>(&k.slope_x[i]),
                          lanes<T>(&k.slope_y[i]), lanes<T>(&k.weight[i]), lanes<T>(&k.curvature_xx[i]),

@@ -296,11 +296,13 @@ struct SampledRow {
     double weight_y;          // w(0, p_y) l²
     const double* weight_x;   // w(p_x, 0) of columns first_column, first_column + 1, …
     long long first_column;
+    bool chirped;             // second order: also H''
 };
 
 // Appends the kernels at samples (columns[k], j), k < count: p relative to x_c, H − H(x_c), H'
-// and w_k l². H' is sample_point()'s (−½H(c − 1) + ½H(c + 1))/dx, computed as (H(c + 1) −
-// H(c − 1))·(½/dx), which rounds identically (halving is exact). Out of line and on local
+// and w_k l², and at second order H'' with sample_curvature()'s arithmetic. H' is
+// sample_point()'s (−½H(c − 1) + ½H(c + 1))/dx, computed as (H(c + 1) − H(c − 1))·(½/dx), which
+// rounds identically (halving is exact). Out of line and on local
 // copies: inlined into the query, the loop ran out of registers and reloaded everything from
 // memory; without wrapped columns it vectorises (gathers) where the CPU has AVX2.
 GLINTSCOPE_OUT_OF_LINE_CLONES
@@ -313,6 +315,11 @@ void append_sampled_kernels(const SampledRow& r, const int* columns, std::size_t
     double* __restrict slope_x = kernels.slope_x.data() + at;
     double* __restrict slope_y = kernels.slope_y.data() + at;
     double* __restrict weight = kernels.weight.data() + at;
+    double* __restrict curvature_xx = kernels.curvature_xx.data() + at;
+    double* __restrict curvature_xy = kernels.curvature_xy.data() + at;
+    double* __restrict curvature_yy = kernels.curvature_yy.data() + at;
+    const bool chirped = r.chirped;
+    const double curvature_scale = 1.0 / (r.texel_um * r.texel_um);
     const float* __restrict below = r.below;
     const float* __restrict row = r.row;
     const float* __restrict above = r.above;
@@ -332,6 +339,12 @@ void append_sampled_kernels(const SampledRow& r, const int* columns, std::size_t
         slope_x[k] = (double(row[right]) - double(row[left])) * half_inverse_texel;
         slope_y[k] = (double(above[c]) - double(below[c])) * half_inverse_texel;
         weight[k] = weight_x[c - first_column] * weight_y;
+        if (!chirped) return;
+        curvature_xx[k] = (double(row[left]) - 2.0 * double(row[c]) + double(row[right])) * curvature_scale;
+        curvature_yy[k] = (double(below[c]) - 2.0 * double(row[c]) + double(above[c])) * curvature_scale;
+        curvature_xy[k] = 0.25 *
+                          (double(above[right]) - double(above[left]) - double(below[right]) + double(below[left])) *
+                          curvature_scale;
     };
     if (count > 0 && columns[0] > 0 && columns[count - 1] + 1 < cols) {
         for (std::size_t k = 0; k < count; ++k) store(k, columns[k], columns[k] - 1, columns[k] + 1);
@@ -657,12 +670,9 @@ struct GaborSurface::Collector {
                                      reference_height,
                                      scratch.weights.along_y(j) * weight_scale,
                                      scratch.weights.columns(),
-                                     scratch.weights.first_column()};
-        const std::size_t at = kernels.size();
+                                     scratch.weights.first_column(),
+                                     chirped};
         append_sampled_kernels(sampled_row, columns, count, kernels);
-        if (chirped)
-            for (std::size_t k = 0; k < count; ++k)
-                kernels.set_curvature(at + k, surface.surface_->sample_curvature(columns[k], j));
     }
 
     // K > 1: per surviving leaf, the kernels inside the window whose codes may reach; the leaf's
