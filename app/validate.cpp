@@ -25,6 +25,7 @@ struct ValidateSettings {
     QueryText given;
     std::string models;
     std::string kernels_per_texel;
+    std::string orders;
     std::string test_method = "gabor";
     std::string reference_method = "fft";
     std::string report;
@@ -48,20 +49,26 @@ ValidationPlan plan_of(const ValidateSettings& settings) {
     if (!settings.kernels_per_texel.empty())
         for (const std::string& value : split(settings.kernels_per_texel, ','))
             plan.kernels_per_texel.push_back(static_cast<int>(parse_integer(value, 1, 16)));
+    if (!settings.orders.empty())
+        for (const std::string& value : split(settings.orders, ',')) {
+            if (trim(value) != "1" && trim(value) != "2")
+                throw Error("--order takes orders 1 and 2, comma-separated, got '" + value + "'");
+            plan.orders.push_back(trim(value) == "1" ? 1 : 2);
+        }
     return plan;
 }
 
 void print_table(const ValidationPlan& plan, const std::vector<ValidationRow>& rows) {
     std::printf("%s against %s\n", plan.test_method.c_str(), plan.reference_method.c_str());
-    std::printf("%-22s %-9s %2s %9s %9s %9s %9s %8s %9s %9s\n", "centre [um]", "model", "K", "lambda", "rel L2",
-                "peak err", "log err", "energy", "t test", "t ref");
+    std::printf("%-22s %-9s %2s %5s %9s %9s %9s %9s %8s %9s %9s\n", "centre [um]", "model", "K", "order", "lambda",
+                "rel L2", "peak err", "log err", "energy", "t test", "t ref");
     for (const ValidationRow& row : rows) {
         const LayerComparison& c = row.comparison;
         char centre[48];
         std::snprintf(centre, sizeof centre, "%.1f,%.1f", row.centre_um.x, row.centre_um.y);
-        std::printf("%-22.22s %-9s %2s %9.4g %8.3f%% %8.3f%% %9.4f %8.4f %8.3fs %8.3fs\n", centre,
+        std::printf("%-22.22s %-9s %2s %5s %9.4g %8.3f%% %8.3f%% %9.4f %8.4f %8.3fs %8.3fs\n", centre,
                     to_string(row.model).c_str(), row.kernels_per_texel ? std::to_string(row.kernels_per_texel).c_str() : "-",
-                    c.wavelength_um, 100.0 * c.relative_l2, 100.0 * c.peak_relative_error, c.log_rms_error,
+                    row.order ? std::to_string(row.order).c_str() : "-", c.wavelength_um, 100.0 * c.relative_l2, 100.0 * c.peak_relative_error, c.log_rms_error,
                     c.energy_ratio(), row.test_seconds, row.reference_seconds);
     }
 }
@@ -73,10 +80,11 @@ void write_pair(const std::string& directory, std::size_t index, const Validatio
     const LobeImage difference = difference_image(test, reference);
     Figure figure;
     char title[160];
-    std::snprintf(title, sizeof title, "%s against %s: centre %.1f,%.1f um, %s%s, relative L2 %.2f%%",
+    const std::string density = row.kernels_per_texel ? ", K = " + std::to_string(row.kernels_per_texel) : "";
+    const std::string order = row.order ? ", order " + std::to_string(row.order) : "";
+    std::snprintf(title, sizeof title, "%s against %s: centre %.1f,%.1f um, %s%s%s, relative L2 %.2f%%",
                   plan.test_method.c_str(), plan.reference_method.c_str(), row.centre_um.x, row.centre_um.y,
-                  to_string(row.model).c_str(), row.kernels_per_texel ? (", K = " + std::to_string(row.kernels_per_texel)).c_str() : "",
-                  100.0 * row.comparison.relative_l2);
+                  to_string(row.model).c_str(), density.c_str(), order.c_str(), 100.0 * row.comparison.relative_l2);
     figure.title = title;
     figure.column_labels = {plan.test_method, plan.reference_method};
     figure.cells = {{&test, &reference}};
@@ -150,6 +158,10 @@ void add_validate_command(CLI::App& app) {
         ->type_name("LIST");
     command->add_option("--kernels-per-texel", settings->kernels_per_texel,
                         "Gabor densities K, comma-separated (default the method's, 2)")
+        ->type_name("LIST");
+    command->add_option("--order", settings->orders,
+                        "Gabor expansion orders, comma-separated: 1 (Yan 2018), 2 (chirped kernels) (default the "
+                        "method's, 1)")
         ->type_name("LIST");
     command->add_option("--test-method", settings->test_method, "Method under test")->capture_default_str();
     command->add_option("--reference-method", settings->reference_method, "Reference method")->capture_default_str();

@@ -26,9 +26,9 @@ Timed timed_compute(const std::string& method, const LobeQuery& query) {
     return result;
 }
 
-std::string describe_case(const Point2& centre, DiffractionModel model, int kernels) {
+std::string describe_case(const Point2& centre, DiffractionModel model, int kernels, int order) {
     return "centre " + shortest_text(centre.x) + "," + shortest_text(centre.y) + " um, " + to_string(model) +
-           (kernels ? ", K = " + std::to_string(kernels) : "");
+           (kernels ? ", K = " + std::to_string(kernels) : "") + (order ? ", order " + std::to_string(order) : "");
 }
 
 std::vector<Point2> validation_centres(const ValidationPlan& plan) {
@@ -62,8 +62,9 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
                                           const PairCallback& pair) {
     const std::vector<DiffractionModel> models = plan.models.empty() ? std::vector{plan.base.model} : plan.models;
     const std::vector<int> densities = plan.kernels_per_texel.empty() ? std::vector{0} : plan.kernels_per_texel;
+    const std::vector<int> orders = plan.orders.empty() ? std::vector{0} : plan.orders;
     const std::vector<Point2> centres = validation_centres(plan);
-    const std::size_t total = centres.size() * models.size() * (densities.size() + 1);
+    const std::size_t total = centres.size() * models.size() * (densities.size() * orders.size() + 1);
     std::size_t done = 0;
     std::vector<ValidationRow> rows;
     for (const Point2& centre : centres)
@@ -71,17 +72,21 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
             LobeQuery query = single_footprint(plan, centre);
             query.model = model;
             const Timed reference = timed_compute(plan.reference_method, query);
-            if (progress) progress(++done, total, plan.reference_method + ", " + describe_case(centre, model, 0));
-            for (int kernels : densities) {
-                LobeQuery test_query = query;
-                if (kernels) test_query.method_options["kernels_per_texel"] = std::to_string(kernels);
-                const Timed test = timed_compute(plan.test_method, test_query);
-                if (progress) progress(++done, total, plan.test_method + ", " + describe_case(centre, model, kernels));
-                const std::size_t first = rows.size();
-                for (const LayerComparison& layer : compare_lobes(test.image, reference.image))
-                    rows.push_back({centre, model, kernels, layer, test.seconds, reference.seconds});
-                if (pair) pair(rows[first], test.image, reference.image);
-            }
+            if (progress) progress(++done, total, plan.reference_method + ", " + describe_case(centre, model, 0, 0));
+            for (int kernels : densities)
+                for (int order : orders) {
+                    LobeQuery test_query = query;
+                    if (kernels) test_query.method_options["kernels_per_texel"] = std::to_string(kernels);
+                    if (order) test_query.method_options["order"] = std::to_string(order);
+                    const Timed test = timed_compute(plan.test_method, test_query);
+                    if (progress)
+                        progress(++done, total,
+                                 plan.test_method + ", " + describe_case(centre, model, kernels, order));
+                    const std::size_t first = rows.size();
+                    for (const LayerComparison& layer : compare_lobes(test.image, reference.image))
+                        rows.push_back({centre, model, kernels, order, layer, test.seconds, reference.seconds});
+                    if (pair) pair(rows[first], test.image, reference.image);
+                }
         }
     return rows;
 }
@@ -131,13 +136,14 @@ std::string convergence_csv(const std::vector<ConvergencePoint>& points) {
 
 std::string validation_csv(const std::vector<ValidationRow>& rows) {
     std::string csv =
-        "centre_x_um,centre_y_um,model,kernels_per_texel,wavelength_um,relative_l2,peak_relative_error,"
+        "centre_x_um,centre_y_um,model,kernels_per_texel,order,wavelength_um,relative_l2,peak_relative_error,"
         "log_rms_error,energy_ratio,test_sum,reference_sum,max_abs_difference,peak_offset_pixels,test_seconds,"
         "reference_seconds\n";
     for (const ValidationRow& row : rows) {
         const LayerComparison& c = row.comparison;
         csv += join({shortest_text(row.centre_um.x), shortest_text(row.centre_um.y), to_string(row.model),
-                     std::to_string(row.kernels_per_texel), shortest_text(c.wavelength_um), shortest_text(c.relative_l2),
+                     std::to_string(row.kernels_per_texel), std::to_string(row.order), shortest_text(c.wavelength_um),
+                     shortest_text(c.relative_l2),
                      shortest_text(c.peak_relative_error), shortest_text(c.log_rms_error),
                      shortest_text(c.energy_ratio()), shortest_text(c.test_sum), shortest_text(c.reference_sum),
                      shortest_text(c.max_abs_difference), shortest_text(c.peak_offset_pixels),
@@ -163,6 +169,7 @@ std::string validation_json(const ValidationPlan& plan, const std::vector<Valida
         list.push_back({{"centre_um", {row.centre_um.x, row.centre_um.y}},
                         {"model", to_string(row.model)},
                         {"kernels_per_texel", row.kernels_per_texel},
+                        {"order", row.order},
                         {"wavelength_um", c.wavelength_um},
                         {"relative_l2", c.relative_l2},
                         {"peak_relative_error", c.peak_relative_error},

@@ -568,15 +568,15 @@ LobeImage gabor_lobe(const LobeQuery& query) {
 
 MethodEntry gabor_method() {
     return {{"gabor",
-             "Gabor kernels, one per cell of a regular grid, summed in closed form (default K = 2 per texel)",
+             "Gabor kernels, one per cell of a regular grid, summed in closed form (default: second order, K = 1 per texel)",
              "Yan 2018 §4-5, eq. 16-17",
              {Quantity::brdf},
              {},
-             {{"kernels_per_texel", "kernels per texel side K, an integer 1-16 (default 2)"},
+             {{"kernels_per_texel", "kernels per texel side K, an integer 1-16 (default 1)"},
               {"footprint_truncation", "drop kernels beyond this many sigma_c from the centre (default 3.25)"},
               {"kernel_truncation", "products evaluation: cut each kernel's transform at this many of its sigmas (default 3)"},
               {"order", "1: heights expanded to first order in each kernel (Yan 2018); 2: to second order, chirped "
-                        "kernels (default 1)"},
+                        "kernels (default 2)"},
               {"phase_error", "GHS, R-GHS, Kirchhoff: xi3 interpolation error bound, in flat-mirror peak amplitudes "
                               "(default 0.01)"},
               {"evaluation", "grid: kernels summed in space, transformed like fft (default; fast); products: the "

@@ -7,11 +7,8 @@
 #include <array>
 #include <cmath>
 #include <complex>
-#include <cstdio>
-#include <cstdlib>
 #include <string>
 #include <map>
-#include <random>
 #include <memory>
 #include <vector>
 
@@ -19,7 +16,6 @@
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/lobe/compare.hpp"
-#include "glintscope/lobe/footprint.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
 #include "methods/gabor/gabor.hpp"
 #include "methods/gabor/gabor_kernels.hpp"
@@ -151,9 +147,11 @@ TEST(ChirpedGaborKernel, SummedTermEqualsLiteralTransform) {
 namespace glintscope {
 namespace {
 
-Heightfield held_out_field() {  // not among the builtins: C2 correlation, anisotropic, rotated
+// Not among the builtins (anisotropic, rotated, its own seed): glintscope generate gaussian --sigma-h 0.8um
+// --correlation-length-x 14um --correlation-length-y 8um --orientation 34 --seed 2026.
+Heightfield held_out_field() {
     Recipe recipe = default_recipe("gaussian");
-    recipe.gaussian = {CorrelationFunction::c1, 0.8, 14.0, 8.0, 0.6};
+    recipe.gaussian = {CorrelationFunction::c1, 0.8, 14.0, 8.0, 34.0 * pi / 180.0};
     recipe.seed = 2026;
     return generate(recipe);
 }
@@ -254,7 +252,9 @@ TEST(ChirpedGaborLobe, GridEvaluationIsTheClosedFormSum) {
 }
 
 // f_r(ω_i → Q) = f_r(ω_Q → P) for the reciprocal models: the chirp B = ξ3 H''/λ depends on ψ only
-// through ξ3, symmetric in ω_i and ω_o.
+// through ξ3, symmetric in ω_i and ω_o. The closed form (products) is reciprocal to rounding; the
+// grid evaluation, whose footprint grid depends on ω_i, to ~2e-4 (1.7e-4 measured at the
+// isotropic field's centre for R-OHS; pairs here: below 1e-4).
 TEST(ChirpedGaborLobe, ReciprocalModelsAreReciprocal) {
     const int resolution = 32;
     const auto direction = [&](int row, int col) {
@@ -266,13 +266,17 @@ TEST(ChirpedGaborLobe, ReciprocalModelsAreReciprocal) {
                                                                      {DiffractionModel::rghs, {9, 15, 22, 17}},
                                                                      {DiffractionModel::kirchhoff, {16, 24, 14, 9}}};
     for (const auto& [model, pair] : cases) {
-        LobeQuery query = small_query(resolution, 1);
-        query.model = model;
-        query.omega_i = direction(pair[0], pair[1]);
-        const double forward = compute_lobe("gabor", query).at(0, pair[2], pair[3]);
-        query.omega_i = direction(pair[2], pair[3]);
-        const double backward = compute_lobe("gabor", query).at(0, pair[0], pair[1]);
-        EXPECT_NEAR(forward, backward, 1e-4 * std::max(forward, backward)) << to_string(model);
+        for (const std::string evaluation : {"grid", "products"}) {
+            LobeQuery query = small_query(resolution, 1);
+            query.model = model;
+            query.method_options["evaluation"] = evaluation;
+            query.omega_i = direction(pair[0], pair[1]);
+            const double forward = compute_lobe("gabor", query).at(0, pair[2], pair[3]);
+            query.omega_i = direction(pair[2], pair[3]);
+            const double backward = compute_lobe("gabor", query).at(0, pair[0], pair[1]);
+            const double tolerance = evaluation == "grid" ? 1e-4 : 1e-6;
+            EXPECT_NEAR(forward, backward, tolerance * std::max(forward, backward)) << to_string(model) << " " << evaluation;
+        }
     }
 }
 
@@ -318,62 +322,6 @@ TEST(ChirpedGaborLobe, RejectsBadOrder) {
     EXPECT_THROW(GaborSurface(query.surface, settings), Error);
 }
 
-TEST(ChirpedGaborMeasure, DISABLED_Accuracy) {
-    const char* only = std::getenv("MEASURE_KINDS");
-    for (const std::string kind : {"isotropic", "brushed", "scratched", "held-out"}) {
-        if (only && std::string(only).find(kind) == std::string::npos) continue;
-        LobeQuery query = accuracy_query(kind == "held-out" ? held_out_field() : generate_builtin(kind));
-        FootprintSet set;
-        set.grid = true;
-        set.count = 2;
-        for (const Point2 centre : footprint_centres(*query.field, query.footprint, set)) {
-            query.footprint.centre_um = centre;
-            query.method_options.clear();
-            const LobeImage reference = compute_lobe("fft", query);
-            std::printf("%s (%g, %g)", kind.c_str(), centre.x, centre.y);
-            const bool quick = std::getenv("MEASURE_QUICK");
-            for (const auto& [order, density] : {std::pair{1, 1}, {2, 1}, {1, 2}, {2, 2}, {1, 4}, {2, 4}}) {
-                if (quick && !(order == 2 && density == 1)) continue;
-                query.method_options["order"] = std::to_string(order);
-                query.method_options["kernels_per_texel"] = std::to_string(density);
-                const double error = compare_lobes(compute_lobe("gabor", query), reference).at(0).relative_l2;
-                std::printf("  o%d K%d %.2f%%", order, density, 100.0 * error);
-            }
-            std::printf("\n");
-            std::fflush(stdout);
-        }
-    }
-}
-
 }  // namespace
 }  // namespace glintscope
 
-namespace glintscope {
-namespace {
-TEST(ChirpedGaborMeasure, DISABLED_PointQueryCounts) {
-    const auto field = std::make_shared<const Heightfield>(generate_builtin("isotropic"));
-    const auto interp = std::make_shared<const BicubicInterpolant>(*field);
-    for (int order : {1, 2}) {
-        GaborSettings settings;
-        settings.kernels_per_texel = 1;
-        settings.order = order;
-        const GaborSurface surface(interp, settings);
-        GaborQueryStatistics total;
-        std::mt19937 random(7);
-        std::uniform_real_distribution<double> uniform(0.0, 1.0);
-        for (int q = 0; q < 2000; ++q) {
-            GaborPointQuery query;
-            query.footprint.sigma_um = 10.0;
-            query.footprint.centre_um = {1024.0 * uniform(random), 1024.0 * uniform(random)};
-            query.omega_i = direction_from_spherical(20.0 * pi / 180.0, 0.0);
-            const double r = std::sqrt(uniform(random));
-            const double phi = 2.0 * pi * uniform(random);
-            query.omega_o = direction_from_disk(r * std::cos(phi), r * std::sin(phi));
-            surface.f_r(query, 0.5, &total);
-        }
-        std::printf("order %d: nodes %.0f evaluated %.0f summed %.0f per query\n", order, total.nodes_visited / 2000.0,
-                    total.kernels_evaluated / 2000.0, total.kernels_summed / 2000.0);
-    }
-}
-}  // namespace
-}  // namespace glintscope
