@@ -136,7 +136,7 @@ double flat_mirror_albedo(DiffractionModel model, double sigma_um, int resolutio
     query.resolution = resolution;
     query.supersample = supersample;
     query.model = model;
-    query.method_options["kernels_per_texel"] = "2";  // σ_k = 1/4 µm
+    query.method_options["kernels_per_texel"] = std::string("2");  // σ_k = 1/4 µm
     const LobeImage image = compute_lobe("gabor", query);
     double albedo = 0.0;
     for (const float value : image.values) albedo += value * disk_pixel_area(query.resolution);
@@ -165,7 +165,7 @@ TEST(GaborLobe, RectangularBoxAgreesWithFftAndWithThePointQuery) {
     query.footprint.centre_um = {300.0, 700.0};
     // Measured 4.9% at K = 2 (square boxes of 24 and 14 µm: 4.7%, 4.4%; a box's edges cut kernels,
     // an error of the density, not of the order: at K = 1 it is 8.3% with second-order kernels).
-    query.method_options["kernels_per_texel"] = "2";
+    query.method_options["kernels_per_texel"] = std::string("2");
     const LobeImage box_lobe = compute_lobe("gabor", query);
     query.method_options.clear();
     EXPECT_LT(relative_l2(box_lobe, compute_lobe("fft", query)), 0.06);
@@ -195,10 +195,10 @@ TEST(GaborLobe, RectangularBoxAgreesWithFftAndWithThePointQuery) {
 TEST(GaborLobe, ApproachesFftGroundTruthAsKernelsDensify) {
     LobeQuery query = isotropic_query(256);
     const LobeImage reference = compute_lobe("fft", query);
-    query.method_options["order"] = "1";  // the paper's kernels
-    query.method_options["kernels_per_texel"] = "2";
+    query.method_options["order"] = std::string("1");  // the paper's kernels
+    query.method_options["kernels_per_texel"] = std::string("2");
     const double error_k2 = relative_l2(compute_lobe("gabor", query), reference);
-    query.method_options["kernels_per_texel"] = "4";
+    query.method_options["kernels_per_texel"] = std::string("4");
     const double error_k4 = relative_l2(compute_lobe("gabor", query), reference);
     EXPECT_LT(error_k2, 0.06);
     EXPECT_LT(error_k4, 0.015);
@@ -328,8 +328,8 @@ TEST(GaborLobe, GridEvaluationIsTheClosedFormSum) {
     LobeQuery query = isotropic_query(32);
     query.omega_i = direction_from_spherical(0.35, 0.5);
     query.method_options["phase_error"] = std::string("1e-3");
-    query.method_options["order"] = "1";  // the separable products (second order: gabor_chirped_test.cpp)
-    query.method_options["kernels_per_texel"] = "2";
+    query.method_options["order"] = std::string("1");  // the separable products (second order: gabor_chirped_test.cpp)
+    query.method_options["kernels_per_texel"] = std::string("2");
     for (const DiffractionModel model : {DiffractionModel::ohs, DiffractionModel::rghs, DiffractionModel::kirchhoff}) {
         query.model = model;
         query.method_options["evaluation"] = std::string("products");
@@ -379,7 +379,7 @@ TEST(GaborLobe, IdenticalForAnyThreadCount) {
 
 TEST(GaborLobe, RecordsKernelGridInMetadata) {
     LobeQuery query = isotropic_query(16);
-    query.method_options["kernels_per_texel"] = "3";
+    query.method_options["kernels_per_texel"] = std::string("3");
     query.method_options["evaluation"] = std::string("products");
     const LobeImage image = compute_lobe("gabor", query);
     EXPECT_EQ(image.metadata.at("gabor.kernels_per_texel"), "3");
