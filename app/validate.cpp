@@ -25,6 +25,7 @@ struct ValidateSettings {
     QueryText given;
     std::string models;
     std::string kernels_per_texel;
+    std::string orders;
     std::string test_method = "gabor";
     std::string reference_method = "fft";
     std::string report;
@@ -49,31 +50,38 @@ ValidationPlan plan_of(const ValidateSettings& settings) {
     if (!settings.kernels_per_texel.empty())
         for (const std::string& value : split(settings.kernels_per_texel, ','))
             plan.kernels_per_texel.push_back(static_cast<int>(parse_integer(value, 1, 16)));
+    if (!settings.orders.empty())
+        for (const std::string& value : split(settings.orders, ',')) {
+            if (trim(value) != "1" && trim(value) != "2")
+                throw Error("--order takes orders 1 and 2, comma-separated, got '" + value + "'");
+            plan.orders.push_back(trim(value) == "1" ? 1 : 2);
+        }
     return plan;
 }
 
 void print_table(const ValidationPlan& plan, const std::vector<ValidationRow>& rows) {
     std::printf("%s against %s\n", plan.test_method.c_str(), plan.reference_method.c_str());
-    std::printf("%-22s %-9s %2s %9s %9s %9s %9s %8s %9s %9s\n", "centre [um]", "model", "K", "lambda", "rel L2",
-                "peak err", "log err", "energy", "t test", "t ref");
+    std::printf("%-22s %-9s %2s %5s %9s %9s %9s %9s %8s %9s %9s\n", "centre [um]", "model", "K", "order", "lambda",
+                "rel L2", "peak err", "log err", "energy", "t test", "t ref");
     for (const ValidationRow& row : rows) {
         const LayerComparison& c = row.comparison;
         char centre[48];
         std::snprintf(centre, sizeof centre, "%.1f,%.1f", row.centre_um.x, row.centre_um.y);
-        std::printf("%-22.22s %-9s %2s %9.4g %8.3f%% %8.3f%% %9.4f %8.4f %8.3fs %8.3fs\n", centre,
+        std::printf("%-22.22s %-9s %2s %5s %9.4g %8.3f%% %8.3f%% %9.4f %8.4f %8.3fs %8.3fs\n", centre,
                     to_string(row.model).c_str(), row.kernels_per_texel ? std::to_string(row.kernels_per_texel).c_str() : "-",
-                    c.wavelength_um, 100.0 * c.relative_l2, 100.0 * c.peak_relative_error, c.log_rms_error,
+                    row.order ? std::to_string(row.order).c_str() : "-", c.wavelength_um, 100.0 * c.relative_l2, 100.0 * c.peak_relative_error, c.log_rms_error,
                     c.energy_ratio(), row.test_seconds, row.reference_seconds);
     }
 }
 
-// The verdict: mean and worst over the footprints per model, K and wavelength.
+// The verdict: mean and worst over the footprints per model, K, order and wavelength.
 void print_summary(const std::vector<ValidationSummary>& summary) {
-    std::printf("\nsummary over footprints\n%-9s %2s %9s %4s %9s %9s %9s %9s %8s\n", "model", "K", "lambda", "n",
-                "mean L2", "worst L2", "mean peak", "worst pk", "energy");
+    std::printf("\nsummary over footprints\n%-9s %2s %5s %9s %4s %9s %9s %9s %9s %8s\n", "model", "K", "order",
+                "lambda", "n", "mean L2", "worst L2", "mean peak", "worst pk", "energy");
     for (const ValidationSummary& s : summary)
-        std::printf("%-9s %2s %9.4g %4zu %8.3f%% %8.3f%% %8.3f%% %8.3f%% %8.4f\n", to_string(s.model).c_str(),
-                    s.kernels_per_texel ? std::to_string(s.kernels_per_texel).c_str() : "-", s.wavelength_um,
+        std::printf("%-9s %2s %5s %9.4g %4zu %8.3f%% %8.3f%% %8.3f%% %8.3f%% %8.4f\n", to_string(s.model).c_str(),
+                    s.kernels_per_texel ? std::to_string(s.kernels_per_texel).c_str() : "-",
+                    s.order ? std::to_string(s.order).c_str() : "-", s.wavelength_um,
                     s.footprints, 100.0 * s.mean_relative_l2, 100.0 * s.worst_relative_l2, 100.0 * s.mean_peak_error,
                     100.0 * s.worst_peak_error, s.mean_energy_ratio);
 }
@@ -82,10 +90,11 @@ void print_summary(const std::vector<ValidationSummary>& summary) {
 void write_pair(const std::string& directory, std::size_t index, const ValidationPlan& plan, const ValidationRow& row,
                 const LobeImage& test, const LobeImage& reference) {
     char title[160];
-    std::snprintf(title, sizeof title, "%s against %s: centre %.1f,%.1f um, %s%s, relative L2 %.2f%%",
+    const std::string density = row.kernels_per_texel ? ", K = " + std::to_string(row.kernels_per_texel) : "";
+    const std::string order = row.order ? ", order " + std::to_string(row.order) : "";
+    std::snprintf(title, sizeof title, "%s against %s: centre %.1f,%.1f um, %s%s%s, relative L2 %.2f%%",
                   plan.test_method.c_str(), plan.reference_method.c_str(), row.centre_um.x, row.centre_um.y,
-                  to_string(row.model).c_str(), row.kernels_per_texel ? (", K = " + std::to_string(row.kernels_per_texel)).c_str() : "",
-                  100.0 * row.comparison.relative_l2);
+                  to_string(row.model).c_str(), density.c_str(), order.c_str(), 100.0 * row.comparison.relative_l2);
     const LobeOutputOptions options;
     write_difference_figure(test, reference, {title, "", plan.test_method, plan.reference_method, "difference"},
                             directory + "/pair-" + std::to_string(index) + ".png", options);
@@ -144,7 +153,8 @@ void run(const ValidateSettings& settings) {
             if (s.worst_relative_l2 > settings.fail_above)
                 throw Error("worst relative L2 " + shortest_text(s.worst_relative_l2) + " exceeds --fail-above " +
                             shortest_text(settings.fail_above) + " (" + to_string(s.model) +
-                            (s.kernels_per_texel ? ", K = " + std::to_string(s.kernels_per_texel) : "") + ", lambda " +
+                            (s.kernels_per_texel ? ", K = " + std::to_string(s.kernels_per_texel) : "") +
+                            (s.order ? ", order " + std::to_string(s.order) : "") + ", lambda " +
                             shortest_text(s.wavelength_um) + " um, over " + std::to_string(s.footprints) + " footprint" +
                             (s.footprints == 1 ? "" : "s") + ")");
 }
@@ -169,12 +179,16 @@ void add_validate_command(CLI::App& app) {
     command->add_option("--kernels-per-texel", settings->kernels_per_texel,
                         "Gabor densities K, comma-separated (default the method's, 2)")
         ->type_name("LIST");
+    command->add_option("--order", settings->orders,
+                        "Gabor expansion orders, comma-separated: 1 (Yan 2018), 2 (chirped kernels) (default the "
+                        "method's, 1)")
+        ->type_name("LIST");
     command->add_option("--test-method", settings->test_method, "Method under test")->capture_default_str();
     command->add_option("--reference-method", settings->reference_method, "Reference method")->capture_default_str();
     command->add_option("--report", settings->report, "Full report as JSON");
     command->add_option("--csv", settings->csv, "The rows as CSV");
     command->add_option("--summary-csv", settings->summary_csv,
-                        "The summary (mean and worst per model, K and wavelength) as CSV");
+                        "The summary (mean and worst per model, K, order and wavelength) as CSV");
     command->add_option("--images", settings->images,
                         "Write DIR/pair-N.png per compared pair: test, reference and their signed difference");
     command->add_option("--convergence", settings->convergence,

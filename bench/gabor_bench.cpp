@@ -75,16 +75,18 @@ BENCHMARK(BM_GaborVsFftPerModel256)
     ->Iterations(1);
 
 // Point queries at random footprint centres and outgoing directions over the whole hemisphere;
-// state.range(0) wavelengths per query, state.range(1) kernels per texel. "per_omega_lambda" is
-// the mean time per (ω_o, λ) pair.
+// state.range(0) wavelengths per query, state.range(1) kernels per texel, state.range(2) the order
+// (1: Yan 2018's kernels, 2: chirped). "per_omega_lambda" is the mean time per (ω_o, λ) pair.
 void BM_GaborPointQuery(benchmark::State& state) {
-    static const GaborSurface one_per_texel = [] {
+    const auto surface_for = [](int density, int order) {
         GaborSettings settings;
-        settings.kernels_per_texel = 1;
+        settings.kernels_per_texel = density;
+        settings.order = order;
         return GaborSurface(isotropic_query().surface, settings);
-    }();
-    static const GaborSurface default_density(isotropic_query().surface);
-    const GaborSurface& surface = state.range(1) == 1 ? one_per_texel : default_density;
+    };
+    static const GaborSurface surfaces[2][2] = {{surface_for(1, 1), surface_for(1, 2)},
+                                                 {surface_for(2, 1), surface_for(2, 2)}};
+    const GaborSurface& surface = surfaces[state.range(1) - 1][state.range(2) - 1];
     const std::vector<double> wavelengths = state.range(0) == 1 ? std::vector<double>{0.5} : visible_bins(16);
     std::mt19937 random(7);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -104,7 +106,25 @@ void BM_GaborPointQuery(benchmark::State& state) {
     state.counters["per_omega_lambda"] = benchmark::Counter(
         double(state.iterations()) * wavelengths.size(), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_GaborPointQuery)->Args({1, 1})->Args({16, 1})->Args({1, 2})->Args({16, 2})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GaborPointQuery)
+    ->ArgsProduct({{1, 16}, {1, 2}, {1, 2}})
+    ->Unit(benchmark::kMicrosecond);
+
+// Whole images by order and density (state.range(0) order, state.range(1) kernels per texel):
+// 256², one wavelength, 2×2 supersampling, R-OHS, the default grid evaluation.
+void BM_GaborImage256ByOrder(benchmark::State& state) {
+    LobeQuery query = isotropic_query();
+    query.resolution = 256;
+    query.supersample = 2;
+    query.wavelengths_um = {0.5};
+    query.method_options = {{"order", std::to_string(state.range(0))},
+                            {"kernels_per_texel", std::to_string(state.range(1))}};
+    for (auto _ : state) benchmark::DoNotOptimize(gabor_lobe(query));
+}
+BENCHMARK(BM_GaborImage256ByOrder)
+    ->ArgsProduct({{1, 2}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The pruning hierarchy of an 8192² field (Yan 2018 §5: 8K × 8K maps at 1 µm), K = 1.
 void BM_GaborSurfaceBuild8192(benchmark::State& state) {

@@ -10,8 +10,8 @@ out=docs/validation
 mkdir -p "$out"
 common=(--res 128 --supersample 2 --incident 20,0 --sigma-c 10um --footprints grid:2
         --models ohs,ghs,rohs,rghs,kirchhoff --quiet)
-single=(--lambda 0.5um --kernels-per-texel 1,2,4)
-spectral=(--spectral 4 --kernels-per-texel 1,2,4)
+single=(--lambda 0.5um --kernels-per-texel 1,2,4 --order 1)
+spectral=(--spectral 4 --kernels-per-texel 1,2,4 --order 1)
 
 {
   echo "# Validation: Gabor kernels against the FFT ground truth"

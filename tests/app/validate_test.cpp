@@ -49,6 +49,36 @@ TEST(ValidateCommand, AGridOfTwoValidatesFourFootprintsIntoANewImagesFolder) {
     EXPECT_FALSE(std::filesystem::exists(images + "/pair-5.png"));
 }
 
+// --order 1,2 reports both Gabor orders side by side against one reference: at K = 1 the chirped
+// kernels are several times closer to the FFT (docs/gabor.md "Second order": 15-21% against
+// 0.75-0.9% on this surface); a third order is refused in one line.
+TEST(ValidateCommand, OrdersOneAndTwoSideBySide) {
+    TemporaryDirectory directory;
+    const std::string csv = directory.file("rows.csv");
+    const auto result = run_cli({"validate", "builtin:isotropic", "--res", "64", "--supersample", "2", "--incident",
+                                 "20,0", "--kernels-per-texel", "1", "--order", "1,2", "--csv", csv});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    std::ifstream stream(csv);
+    std::string header, first, second;
+    std::getline(stream, header);
+    std::getline(stream, first);
+    std::getline(stream, second);
+    const auto field = [&](const std::string& line, const std::string& name) {
+        std::stringstream names(header), values(line);
+        std::string key, value;
+        while (std::getline(names, key, ',') && std::getline(values, value, ','))
+            if (key == name) return value;
+        return std::string();
+    };
+    EXPECT_EQ(field(first, "order"), "1");
+    EXPECT_EQ(field(second, "order"), "2");
+    EXPECT_LT(std::stod(field(second, "relative_l2")), 0.03);
+    EXPECT_LT(5.0 * std::stod(field(second, "relative_l2")), std::stod(field(first, "relative_l2")));
+    const auto refused = run_cli({"validate", "builtin:isotropic", "--order", "3"});
+    EXPECT_NE(refused.exit_code, 0);
+    EXPECT_NE(refused.output.find("--order"), std::string::npos) << refused.output;
+}
+
 TEST(ValidateCommand, AMissingReportDirectoryFailsBeforeComputing) {
     const auto result = run_cli({"validate", "builtin:isotropic", "--report", "/no/such/dir/r.json"});
     EXPECT_NE(result.exit_code, 0);

@@ -174,6 +174,83 @@ void BicubicInterpolant::evaluate_samples(long long c0, long long j0, int nx, in
     }
 }
 
+namespace {
+
+// Five samples along one axis around a coordinate, with the Catmull–Rom weights of the value,
+// first and second derivative in sample units. Off a sample line only the first four are used
+// (the fifth weighs 0); on one (t = 0), where the cubic's second derivative jumps, it is the second
+// difference (1, −2, 1) (interpolant.hpp).
+struct CurvatureTaps {
+    int index[5];
+    double w[5];
+    double dw[5];
+    double d2w[5];
+};
+
+CurvatureTaps curvature_taps(double s_um, double texel_um, int count) {
+    const double u = s_um / texel_um - 0.5;
+    const double u_floor = std::floor(u);
+    const double t = u - u_floor;
+    const int first = wrap(static_cast<int>(std::fmod(u_floor, count)), count);
+    CurvatureTaps taps{};
+    if (t == 0.0) {
+        for (int k = 0; k < 5; ++k) taps.index[k] = wrap(first + k - 2, count);
+        const double w[5] = {0.0, 0.0, 1.0, 0.0, 0.0};
+        const double dw[5] = {0.0, -0.5, 0.0, 0.5, 0.0};
+        const double d2w[5] = {0.0, 1.0, -2.0, 1.0, 0.0};
+        std::copy(w, w + 5, taps.w);
+        std::copy(dw, dw + 5, taps.dw);
+        std::copy(d2w, d2w + 5, taps.d2w);
+        return taps;
+    }
+    const CubicWeights weights = catmull_rom(t);
+    for (int k = 0; k < 4; ++k) {
+        taps.index[k] = wrap(first + k - 1, count);
+        taps.w[k] = weights.w[k];
+        taps.dw[k] = weights.dw[k];
+    }
+    taps.index[4] = taps.index[3];
+    // d²/dt² of catmull_rom's weights.
+    taps.d2w[0] = 2.0 - 3.0 * t;
+    taps.d2w[1] = 9.0 * t - 5.0;
+    taps.d2w[2] = 4.0 - 9.0 * t;
+    taps.d2w[3] = 3.0 * t - 1.0;
+    return taps;
+}
+
+}  // namespace
+
+SurfaceCurvature BicubicInterpolant::curvature(double x_um, double y_um) const {
+    const CurvatureTaps x = curvature_taps(x_um, texel_um_, cols_);
+    const CurvatureTaps y = curvature_taps(y_um, texel_um_, rows_);
+    double hxx = 0.0, hxy = 0.0, hyy = 0.0;
+    for (int m = 0; m < 5; ++m) {
+        const float* row = sample_row(y.index[m]);
+        double along_x = 0.0, along_x_du = 0.0, along_x_du2 = 0.0;
+        for (int k = 0; k < 5; ++k) {
+            along_x += x.w[k] * row[x.index[k]];
+            along_x_du += x.dw[k] * row[x.index[k]];
+            along_x_du2 += x.d2w[k] * row[x.index[k]];
+        }
+        hxx += y.w[m] * along_x_du2;
+        hxy += y.dw[m] * along_x_du;
+        hyy += y.d2w[m] * along_x;
+    }
+    const double scale = inverse_texel_ * inverse_texel_;
+    return {hxx * scale, hxy * scale, hyy * scale};
+}
+
+SurfaceCurvature BicubicInterpolant::sample_curvature(int c, int j) const {
+    const auto at = [&](int dc, int dj) {
+        return static_cast<double>(sample_row(wrap(j + dj, rows_))[wrap(c + dc, cols_)]);
+    };
+    const double scale = 1.0 / (texel_um_ * texel_um_);
+    const double hxx = at(-1, 0) - 2.0 * at(0, 0) + at(1, 0);
+    const double hyy = at(0, -1) - 2.0 * at(0, 0) + at(0, 1);
+    const double hxy = 0.25 * (at(1, 1) - at(-1, 1) - at(1, -1) + at(-1, -1));
+    return {hxx * scale, hxy * scale, hyy * scale};
+}
+
 double BicubicInterpolant::height(double x_um, double y_um) const { return evaluate(x_um, y_um).height; }
 
 }  // namespace glintscope

@@ -27,9 +27,9 @@ Timed timed_compute(const std::string& method, const LobeQuery& query) {
     return result;
 }
 
-std::string describe_case(const Point2& centre, DiffractionModel model, int kernels) {
+std::string describe_case(const Point2& centre, DiffractionModel model, int kernels, int order) {
     return "centre " + shortest_text(centre.x) + "," + shortest_text(centre.y) + " um, " + to_string(model) +
-           (kernels ? ", K = " + std::to_string(kernels) : "");
+           (kernels ? ", K = " + std::to_string(kernels) : "") + (order ? ", order " + std::to_string(order) : "");
 }
 
 std::vector<Point2> validation_centres(const ValidationPlan& plan) {
@@ -52,8 +52,9 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
                                           const PairCallback& pair) {
     const std::vector<DiffractionModel> models = plan.models.empty() ? std::vector{plan.base.model} : plan.models;
     const std::vector<int> densities = plan.kernels_per_texel.empty() ? std::vector{0} : plan.kernels_per_texel;
+    const std::vector<int> orders = plan.orders.empty() ? std::vector{0} : plan.orders;
     const std::vector<Point2> centres = validation_centres(plan);
-    const std::size_t total = centres.size() * models.size() * (densities.size() + 1);
+    const std::size_t total = centres.size() * models.size() * (densities.size() * orders.size() + 1);
     std::size_t done = 0;
     std::vector<ValidationRow> rows;
     for (const Point2& centre : centres)
@@ -61,17 +62,21 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
             LobeQuery query = single_footprint(plan, centre);
             query.model = model;
             const Timed reference = timed_compute(plan.reference_method, query);
-            if (progress) progress(++done, total, plan.reference_method + ", " + describe_case(centre, model, 0));
-            for (int kernels : densities) {
-                LobeQuery test_query = query;
-                if (kernels) test_query.method_options["kernels_per_texel"] = std::to_string(kernels);
-                const Timed test = timed_compute(plan.test_method, test_query);
-                if (progress) progress(++done, total, plan.test_method + ", " + describe_case(centre, model, kernels));
-                const std::size_t first = rows.size();
-                for (const LayerComparison& layer : compare_lobes(test.image, reference.image))
-                    rows.push_back({centre, model, kernels, layer, test.seconds, reference.seconds});
-                if (pair) pair(rows[first], test.image, reference.image);
-            }
+            if (progress) progress(++done, total, plan.reference_method + ", " + describe_case(centre, model, 0, 0));
+            for (int kernels : densities)
+                for (int order : orders) {
+                    LobeQuery test_query = query;
+                    if (kernels) test_query.method_options["kernels_per_texel"] = std::to_string(kernels);
+                    if (order) test_query.method_options["order"] = std::to_string(order);
+                    const Timed test = timed_compute(plan.test_method, test_query);
+                    if (progress)
+                        progress(++done, total,
+                                 plan.test_method + ", " + describe_case(centre, model, kernels, order));
+                    const std::size_t first = rows.size();
+                    for (const LayerComparison& layer : compare_lobes(test.image, reference.image))
+                        rows.push_back({centre, model, kernels, order, layer, test.seconds, reference.seconds});
+                    if (pair) pair(rows[first], test.image, reference.image);
+                }
         }
     return rows;
 }
@@ -121,13 +126,14 @@ std::string convergence_csv(const std::vector<ConvergencePoint>& points) {
 
 std::string validation_csv(const std::vector<ValidationRow>& rows) {
     std::string csv =
-        "centre_x_um,centre_y_um,model,kernels_per_texel,wavelength_um,relative_l2,peak_relative_error,"
+        "centre_x_um,centre_y_um,model,kernels_per_texel,order,wavelength_um,relative_l2,peak_relative_error,"
         "log_rms_error,energy_ratio,test_sum,reference_sum,max_abs_difference,peak_offset_pixels,test_seconds,"
         "reference_seconds\n";
     for (const ValidationRow& row : rows) {
         const LayerComparison& c = row.comparison;
         csv += join({shortest_text(row.centre_um.x), shortest_text(row.centre_um.y), to_string(row.model),
-                     std::to_string(row.kernels_per_texel), shortest_text(c.wavelength_um), shortest_text(c.relative_l2),
+                     std::to_string(row.kernels_per_texel), std::to_string(row.order), shortest_text(c.wavelength_um),
+                     shortest_text(c.relative_l2),
                      shortest_text(c.peak_relative_error), shortest_text(c.log_rms_error),
                      shortest_text(c.energy_ratio()), shortest_text(c.test_sum), shortest_text(c.reference_sum),
                      shortest_text(c.max_abs_difference), shortest_text(c.peak_offset_pixels),
@@ -143,9 +149,11 @@ std::vector<ValidationSummary> summarize_validation(const std::vector<Validation
     for (const ValidationRow& row : rows) {
         const LayerComparison& c = row.comparison;
         auto it = std::find_if(summary.begin(), summary.end(), [&](const ValidationSummary& s) {
-            return s.model == row.model && s.kernels_per_texel == row.kernels_per_texel && s.wavelength_um == c.wavelength_um;
+            return s.model == row.model && s.kernels_per_texel == row.kernels_per_texel && s.order == row.order &&
+                   s.wavelength_um == c.wavelength_um;
         });
-        if (it == summary.end()) it = summary.insert(summary.end(), {row.model, row.kernels_per_texel, c.wavelength_um});
+        if (it == summary.end())
+            it = summary.insert(summary.end(), {row.model, row.kernels_per_texel, row.order, c.wavelength_um});
         ++it->footprints;
         it->mean_relative_l2 += c.relative_l2;
         it->worst_relative_l2 = std::max(it->worst_relative_l2, c.relative_l2);
@@ -168,15 +176,16 @@ const std::vector<std::string>& validation_column_definitions() {
         "log err: root mean square of log10(t / r) where r is above 1e-3 of its peak (the tails)",
         "energy: test albedo / reference albedo, each sum f_r (2/N)^2 over the disk",
         "t test, t ref: seconds to compute the test and reference lobes (all wavelengths)",
-        "mean, worst: over the footprints of one model, K and wavelength (the summary)"};
+        "mean, worst: over the footprints of one model, K, order and wavelength (the summary)"};
     return columns;
 }
 
 std::string validation_summary_csv(const std::vector<ValidationSummary>& summary) {
-    std::string csv = "model,kernels_per_texel,wavelength_um,footprints,mean_relative_l2,worst_relative_l2,"
+    std::string csv = "model,kernels_per_texel,order,wavelength_um,footprints,mean_relative_l2,worst_relative_l2,"
                       "mean_peak_relative_error,worst_peak_relative_error,mean_energy_ratio\n";
     for (const ValidationSummary& s : summary)
-        csv += join({to_string(s.model), std::to_string(s.kernels_per_texel), shortest_text(s.wavelength_um),
+        csv += join({to_string(s.model), std::to_string(s.kernels_per_texel), std::to_string(s.order),
+                     shortest_text(s.wavelength_um),
                      std::to_string(s.footprints), shortest_text(s.mean_relative_l2), shortest_text(s.worst_relative_l2),
                      shortest_text(s.mean_peak_error), shortest_text(s.worst_peak_error),
                      shortest_text(s.mean_energy_ratio)},
@@ -203,6 +212,7 @@ std::string validation_json(const ValidationPlan& plan, const std::vector<Valida
     for (int k : plan.kernels_per_texel) densities.push_back(k);
     report["models"] = models;
     report["kernels_per_texel"] = densities;  // empty: the test method's default
+    report["orders"] = plan.orders;           // empty: the test method's default
     nlohmann::ordered_json centres = nlohmann::ordered_json::array();
     for (const Point2& centre : validation_centres(plan)) centres.push_back({centre.x, centre.y});
     report["footprint_centres_um"] = centres;
@@ -212,6 +222,7 @@ std::string validation_json(const ValidationPlan& plan, const std::vector<Valida
     for (const ValidationSummary& s : summarize_validation(rows))
         summary.push_back({{"model", to_string(s.model)},
                            {"kernels_per_texel", s.kernels_per_texel},
+                           {"order", s.order},
                            {"wavelength_um", s.wavelength_um},
                            {"footprints", s.footprints},
                            {"mean_relative_l2", s.mean_relative_l2},
@@ -227,6 +238,7 @@ std::string validation_json(const ValidationPlan& plan, const std::vector<Valida
         nlohmann::ordered_json entry = {{"centre_um", {row.centre_um.x, row.centre_um.y}},
                                         {"model", to_string(row.model)},
                                         {"kernels_per_texel", row.kernels_per_texel},
+                                        {"order", row.order},
                                         {"wavelength_um", c.wavelength_um},
                                         {"relative_l2", c.relative_l2},
                                         {"peak_relative_error", c.peak_relative_error},

@@ -64,6 +64,7 @@ TEST(Validate, GaborMeetsItsDocumentedBoundOnTheIsotropicBuiltin) {
     plan.base.resolution = 128;
     plan.base.supersample = 2;
     plan.kernels_per_texel = {1, 4};
+    plan.orders = {1};  // the paper's kernels
     const std::vector<ValidationRow> rows = run_validation(plan);
     ASSERT_EQ(rows.size(), 2u);
     // docs/gabor.md: K = 1 ~ 13-20%, K = 4 ≤ 1.5% at the canonical footprint; error falls with K.

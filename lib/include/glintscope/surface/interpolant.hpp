@@ -15,6 +15,19 @@ struct SurfacePoint {
     double dh_dy = 0.0;   // ∂H/∂y
 };
 
+// The Hessian H'' of the interpolant, 1/µm. Catmull–Rom is C¹ only: across a sample line the
+// second derivative along its normal jumps, and there it is taken as the second difference of the
+// three samples across the line (the curvature of the parabola through them, exact for
+// quadratics); the mixed derivative is continuous. Chosen by measurement for second-order Gabor
+// kernels centred on the samples (docs/gabor.md "Second order": the mean of the two one-sided
+// values, (−½, 3, −5, 3, −½), amplifies the highest frequencies three times more and errs up to
+// five times more).
+struct SurfaceCurvature {
+    double d2h_dx2 = 0.0;
+    double d2h_dxdy = 0.0;
+    double d2h_dy2 = 0.0;
+};
+
 class BicubicInterpolant {
 public:
     // The field must have no missing points (fill them first); throws Error otherwise.
@@ -46,6 +59,12 @@ public:
         return {row[c], (-0.5 * row[left] + 0.5 * row[right]) * inverse_texel_,
                 (-0.5 * below[c] + 0.5 * above[c]) * inverse_texel_};
     }
+    // H'' at s (µm), as SurfaceCurvature describes.
+    SurfaceCurvature curvature(double x_um, double y_um) const;
+    // curvature() at the sample (c, j), 0 ≤ c < cols(), 0 ≤ j < rows() (y-up): the second
+    // differences (H(c−1) − 2H(c) + H(c+1))/dx² along each axis and the mixed one (H(c+1, j+1) −
+    // H(c−1, j+1) − H(c+1, j−1) + H(c−1, j−1))/(4dx²).
+    SurfaceCurvature sample_curvature(int c, int j) const;
     // The samples of y-up row j (0 ≤ j < rows()), cols() of them, for code that tests many
     // samples' central differences at once.
     const float* sample_row(int j) const { return grid_.data() + static_cast<std::size_t>(j) * cols_; }

@@ -18,12 +18,14 @@ struct ValidationPlan {
     std::string reference_method = "fft";
     std::vector<DiffractionModel> models;    // default: the base query's model
     std::vector<int> kernels_per_texel;      // the test method's option; empty: its default
+    std::vector<int> orders;                 // the test method's option "order" (gabor: 1, 2); empty: its default
 };
 
 struct ValidationRow {
     Point2 centre_um;
     DiffractionModel model = DiffractionModel::rohs;
     int kernels_per_texel = 0;               // 0: the test method's default
+    int order = 0;                           // 0: the test method's default
     LayerComparison comparison;              // one wavelength
     double test_seconds = 0.0;               // for the whole query (all wavelengths)
     double reference_seconds = 0.0;
@@ -35,8 +37,8 @@ using ProgressCallback = std::function<void(std::size_t done, std::size_t total,
 // Called with each compared pair (for pictures); `row` is the pair's first row.
 using PairCallback = std::function<void(const ValidationRow& row, const LobeImage& test, const LobeImage& reference)>;
 
-// Every combination of footprint (base.footprints, each on its own) × model × density, one row
-// per wavelength. The reference lobe of a (centre, model) is computed once and shared by the
+// Every combination of footprint (base.footprints, each on its own) × model × density × order, one
+// row per wavelength. The reference lobe of a (centre, model) is computed once and shared by the
 // densities; test and reference share the reference method's supersampling.
 std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress = {},
                                           const PairCallback& pair = {});
@@ -53,12 +55,13 @@ struct ConvergencePoint {
 std::vector<ConvergencePoint> run_convergence(const ValidationPlan& plan, const ProgressCallback& progress = {});
 std::string convergence_csv(const std::vector<ConvergencePoint>& points);
 
-// The verdict over footprints: per model × K × wavelength, the mean and the worst relative L2 and
+// The verdict over footprints: per model × K × order × wavelength, the mean and the worst relative L2 and
 // peak error over the footprints, and the mean energy ratio (test albedo / reference albedo),
 // in order of first appearance in the rows.
 struct ValidationSummary {
     DiffractionModel model = DiffractionModel::rohs;
     int kernels_per_texel = 0;
+    int order = 0;
     double wavelength_um = 0.0;
     std::size_t footprints = 0;
     double mean_relative_l2 = 0.0;

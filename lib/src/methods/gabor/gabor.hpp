@@ -29,18 +29,31 @@ namespace glintscope {
 
 // ---- One Gabor kernel (Yan 2018 §4.1) -----------------------------------------------------
 
-// g(s; μ, σ, a) = G_2D(s; μ, σ) e^{−i2π a·s}, G_2D the normalised isotropic Gaussian (Yan 2018 eq. 7).
+// A symmetric 2 × 2 matrix B (cycles/µm²): the chirp rate of a second-order kernel.
+struct Chirp {
+    double xx = 0.0;
+    double xy = 0.0;
+    double yy = 0.0;
+};
+
+// g(s; μ, σ, a, B) = G_2D(s; μ, σ) e^{−i2π (a·s + ½ (s − μ)ᵀ B (s − μ))}, G_2D the normalised
+// isotropic Gaussian: Yan 2018 eq. 7 when B = 0 (first order), a chirped kernel otherwise.
 struct GaborKernel {
     Point2 centre_um;         // μ
     double sigma_um = 0.5;    // σ
     Point2 frequency;         // a, cycles/µm
+    Chirp chirp;              // B
 };
 
-// g(s) (Yan 2018 eq. 7).
+// g(s) (Yan 2018 eq. 7, times the chirp).
 std::complex<double> gabor_kernel_value(const GaborKernel& kernel, Point2 s_um);
 
-// F[g](v) = ∫ g(s) e^{−i2π s·v} ds = e^{−i2π μ·(v + a)} e^{−2π²σ²|v + a|²}: Yan 2018 eq. 8 with the centre
-// μ in the phase (the paper prints a·(v + a), a misprint: conventions.md).
+// F[g](v) = ∫ g(s) e^{−i2π s·v} ds. First order: e^{−i2π μ·(v + a)} e^{−2π²σ²|v + a|²}, Yan 2018 eq. 8
+// with the centre μ in the phase (the paper prints a·(v + a), a misprint: conventions.md).
+// Chirped: with u = v + a and M = I + i2πσ²B,
+//   F[g](v) = e^{−i2π μ·u} det(M)^{−1/2} e^{−2π²σ² uᵀM⁻¹u}
+// (Folland 1989 App. A Thm. 1, the Gaussian integral for a complex symmetric matrix with positive
+// definite real part; the principal square root: docs/gabor.md "Second order").
 std::complex<double> gabor_kernel_transform(const GaborKernel& kernel, Point2 v);
 
 // The kernel that stands for the cell of side l centred at m (Yan 2018 eq. 13–15): R_k(s) ≈ C_k g(s; m, l/2, a_k)
@@ -51,6 +64,11 @@ struct GaborCellKernel {
 };
 GaborCellKernel gabor_cell_kernel(Point2 centre_um, double cell_um, const SurfacePoint& surface_at_centre,
                                   double xi2, double xi3, double lambda_um);
+// The second-order kernel of the same cell: H expanded to second order about m, so the kernel also
+// carries the chirp B = ξ3 H''(m)/λ (a paraboloid is represented exactly).
+GaborCellKernel gabor_cell_kernel(Point2 centre_um, double cell_um, const SurfacePoint& surface_at_centre,
+                                  const SurfaceCurvature& curvature_at_centre, double xi2, double xi3,
+                                  double lambda_um);
 
 // ---- Settings from a query -----------------------------------------------------------------
 

@@ -97,6 +97,38 @@ void phase_factors(const SampleAxis& axis, AxisSpan span, const double* gauss, d
     }
 }
 
+// Second order: factors[j] = scale · gauss[j] e^{−i2π (f d_j + ½ q d_j²)}, d_j = s_j − m, each
+// phase computed directly (the chirp has no one-multiplication step).
+void chirped_factors(const SampleAxis& axis, AxisSpan span, const double* gauss, double m, double frequency,
+                     double chirp, Complex scale, double* re, double* im) {
+    for (int j = 0; j < span.count; ++j) {
+        const double d = axis.first_um + (span.first + j) * axis.step_um - m;
+        const double turns = frequency * d + 0.5 * chirp * d * d;
+        const Complex value = scale * gauss[j] * Complex(std::cos(2.0 * pi * turns), -std::sin(2.0 * pi * turns));
+        re[j] = value.real();
+        im[j] = value.imag();
+    }
+}
+
+// row[j] += factor · (x_re[j] + i x_im[j]) · e^{−i2π t (d_0 + j·step)}: the chirp's cross term
+// e^{−i2π B_xy d_x d_y} is, on a grid row (fixed d_y), a plane wave along x of frequency t = B_xy d_y,
+// stepped by one multiplication.
+void add_row_cross_chirped(Complex* row, Complex factor, const double* x_re, const double* x_im, int count,
+                           double frequency, double d0, double step) {
+    const double turns = frequency * d0 - std::nearbyint(frequency * d0);
+    Complex phasor = factor * Complex(std::cos(2.0 * pi * turns), -std::sin(2.0 * pi * turns));
+    const double step_c = std::cos(2.0 * pi * frequency * step), step_s = -std::sin(2.0 * pi * frequency * step);
+    double* values = reinterpret_cast<double*>(row);
+    double c = phasor.real(), s = phasor.imag();
+    for (int j = 0; j < count; ++j) {
+        values[2 * j] += c * x_re[j] - s * x_im[j];
+        values[2 * j + 1] += c * x_im[j] + s * x_re[j];
+        const double next = c * step_c - s * step_s;
+        s = c * step_s + s * step_c;
+        c = next;
+    }
+}
+
 // row[j] += factor · (x_re[j] + i x_im[j]) in plain arithmetic (std::complex's product checks for
 // infinities in every multiplication).
 void add_row(Complex* row, double f_re, double f_im, const double* x_re, const double* x_im, int count) {
@@ -110,12 +142,13 @@ void add_row(Complex* row, double f_re, double f_im, const double* x_re, const d
 }  // namespace
 
 ReflectionSource kernel_field_source(const KernelArrays& kernels, const KernelGrid& grid, Point2 centre_um,
-                                     double reference_height_um, bool kirchhoff) {
+                                     double reference_height_um, bool kirchhoff, double chirp_bandwidth) {
     ReflectionSource source;
-    source.bandwidth = kSplatSigmas / (2.0 * pi * grid.sigma_um);
+    source.bandwidth = kSplatSigmas / (2.0 * pi * grid.sigma_um) + chirp_bandwidth;
+    const bool chirped = grid.order == 2;
     source.smooth = true;
     auto plan = std::make_shared<SplatPlan>();  // remade when the grid changes (another wavelength)
-    source.fill = [&kernels, grid, centre_um, reference_height_um, kirchhoff, plan](
+    source.fill = [&kernels, grid, centre_um, reference_height_um, kirchhoff, chirped, plan](
                       const FootprintSamples& samples, double xi3, double lambda_um, std::vector<std::vector<Complex>>& out) {
         if (!plan->fits(samples)) *plan = plan_splat(kernels, samples, centre_um, grid.sigma_um);
         const int nx = samples.x.count, ny = samples.y.count;
@@ -136,6 +169,15 @@ ReflectionSource kernel_field_source(const KernelArrays& kernels, const KernelGr
                 const Complex c = kernels.weight[k] * normalisation *
                                   std::polar(1.0, -2.0 * pi * xi3_over_lambda * (kernels.height[k] + height_offset));
                 const std::size_t xo = plan->x_offset[k], yo = plan->y_offset[k];
+                if (chirped) {  // the second-order terms ½ ξ3 H''_xx d_x²/λ and ½ ξ3 H''_yy d_y²/λ
+                    chirped_factors(samples.x, plan->x_span[k], &plan->gauss[xo], centre_um.x + kernels.px[k],
+                                    xi3_over_lambda * kernels.slope_x[k], xi3_over_lambda * kernels.curvature_xx[k],
+                                    1.0, &re[xo], &im[xo]);
+                    chirped_factors(samples.y, plan->y_span[k], &plan->gauss[yo], centre_um.y + kernels.py[k],
+                                    xi3_over_lambda * kernels.slope_y[k], xi3_over_lambda * kernels.curvature_yy[k],
+                                    c, &re[yo], &im[yo]);
+                    continue;
+                }
                 phase_factors(samples.x, plan->x_span[k], &plan->gauss[xo], centre_um.x + kernels.px[k],
                               xi3_over_lambda * kernels.slope_x[k], 1.0, &re[xo], &im[xo]);
                 phase_factors(samples.y, plan->y_span[k], &plan->gauss[yo], centre_um.y + kernels.py[k],
@@ -154,6 +196,20 @@ ReflectionSource kernel_field_source(const KernelArrays& kernels, const KernelGr
                         const double f_re = re[plan->y_offset[k] + (r - sy.first)];
                         const double f_im = im[plan->y_offset[k] + (r - sy.first)];
                         const std::size_t at = static_cast<std::size_t>(r) * nx + sx.first;
+                        if (chirped) {  // the cross term ξ3 H''_xy d_x d_y/λ
+                            const double mx = centre_um.x + kernels.px[k];
+                            const double dy = samples.y.first_um + r * samples.y.step_um - (centre_um.y + kernels.py[k]);
+                            const double frequency = xi3_over_lambda * kernels.curvature_xy[k] * dy;
+                            const double d0 = samples.x.first_um + sx.first * samples.x.step_um - mx;
+                            const Complex f(f_re, f_im);
+                            add_row_cross_chirped(&out[0][at], f, x_re, x_im, sx.count, frequency, d0, samples.x.step_um);
+                            if (!kirchhoff) continue;
+                            add_row_cross_chirped(&out[1][at], f * kernels.slope_x[k], x_re, x_im, sx.count, frequency,
+                                                  d0, samples.x.step_um);
+                            add_row_cross_chirped(&out[2][at], f * kernels.slope_y[k], x_re, x_im, sx.count, frequency,
+                                                  d0, samples.x.step_um);
+                            continue;
+                        }
                         add_row(&out[0][at], f_re, f_im, x_re, x_im, sx.count);
                         if (!kirchhoff) continue;
                         add_row(&out[1][at], f_re * kernels.slope_x[k], f_im * kernels.slope_x[k], x_re, x_im, sx.count);

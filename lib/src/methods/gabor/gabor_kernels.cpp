@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <numbers>
+#include <type_traits>
 
 #include "glintscope/core/error.hpp"
 
@@ -32,6 +33,22 @@ using Double4 = double __attribute__((vector_size(32)));
     return ((dx * dx <= reach2) & (dy * dy <= reach2)) ? amplitude : zero;
 }
 
+[[gnu::always_inline]] inline Double4 keep_inside(const Double4& dx, const Double4& dy, const Double4& reach2,
+                                                 const Double4& amplitude) {
+    const Double4 zero = {0.0, 0.0, 0.0, 0.0};
+    return ((dx * dx <= reach2) & (dy * dy <= reach2)) ? amplitude : zero;
+}
+
+// Elementwise helpers for double and Double4 (GCC lowers the lane loops to vector instructions).
+[[gnu::always_inline]] inline double sqrt_of(double x) { return std::sqrt(x); }
+[[gnu::always_inline]] inline double abs_of(double x) { return std::fabs(x); }
+[[gnu::always_inline]] inline double min_of(double a, double b) { return a < b ? a : b; }
+[[gnu::always_inline]] inline Double4 sqrt_of(const Double4& x) {
+    return Double4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
+}
+[[gnu::always_inline]] inline Double4 abs_of(const Double4& x) { return x < 0.0 ? -x : x; }
+[[gnu::always_inline]] inline Double4 min_of(const Double4& a, const Double4& b) { return a < b ? a : b; }
+
 // One kernel's term w_k l² ξ2 e^{−i2π(ξ3 H_k/λ + m_k·v)} e^{−β|v + a_k|²} (T: double or Double4).
 template <typename T>
 [[gnu::always_inline]] inline void add_term(const T& px, const T& py, const T& height, const T& slope_x,
@@ -51,31 +68,108 @@ template <typename T>
     sum_im -= kept * sin_phase;
 }
 
+// T values from consecutive kernels at p: one for double, four for Double4.
+template <typename T>
+[[gnu::always_inline]] inline T lanes(const double* p) {
+    if constexpr (std::is_same_v<T, double>) {
+        return *p;
+    } else {
+        T v;
+        load4(p, v);
+        return v;
+    }
+}
+
 // Four kernels per step in SIMD lanes, the remainder one by one; each lane sums a fixed subset
-// of the kernels, so the result depends only on the kernel order.
+// of the kernels, so the result depends only on the kernel order. add(i, re, im) adds the terms
+// of kernels i… to re and im (double or Double4).
+template <typename Add>
+[[gnu::always_inline]] inline void sum_in_lanes(std::size_t begin, std::size_t end, const Add& add, double& out_re,
+                                                double& out_im) {
+    Double4 re4 = {0.0, 0.0, 0.0, 0.0};
+    Double4 im4 = {0.0, 0.0, 0.0, 0.0};
+    std::size_t i = begin;
+    for (; i + 4 <= end; i += 4) add(i, re4, im4);
+    double re = 0.0;
+    double im = 0.0;
+    for (; i < end; ++i) add(i, re, im);
+    out_re = ((re4[0] + re4[1]) + (re4[2] + re4[3])) + re;
+    out_im = ((im4[0] + im4[1]) + (im4[2] + im4[3])) + im;
+}
+
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 void sum_kernel_terms(const KernelArrays& k, std::size_t begin, std::size_t end, const TransformPoint& point,
                       double reach, double beta, double& out_re, double& out_im) {
     const double reach2 = reach * reach;
-    Double4 re4 = {0.0, 0.0, 0.0, 0.0};
-    Double4 im4 = {0.0, 0.0, 0.0, 0.0};
-    std::size_t i = begin;
-    for (; i + 4 <= end; i += 4) {
-        Double4 px, py, height, slope_x, slope_y, weight;
-        load4(&k.px[i], px);
-        load4(&k.py[i], py);
-        load4(&k.height[i], height);
-        load4(&k.slope_x[i], slope_x);
-        load4(&k.slope_y[i], slope_y);
-        load4(&k.weight[i], weight);
-        add_term(px, py, height, slope_x, slope_y, weight, point, reach2, beta, re4, im4);
-    }
-    double re = 0.0;
-    double im = 0.0;
-    for (; i < end; ++i)
-        add_term(k.px[i], k.py[i], k.height[i], k.slope_x[i], k.slope_y[i], k.weight[i], point, reach2, beta, re, im);
-    out_re = ((re4[0] + re4[1]) + (re4[2] + re4[3])) + re;
-    out_im = ((im4[0] + im4[1]) + (im4[2] + im4[3])) + im;
+    const auto add = [&](std::size_t i, auto& re, auto& im) __attribute__((always_inline)) {
+        using T = std::decay_t<decltype(re)>;
+        add_term(lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]), lanes<T>(&k.slope_x[i]),
+                 lanes<T>(&k.slope_y[i]), lanes<T>(&k.weight[i]), point, reach2, beta, re, im);
+    };
+    sum_in_lanes(begin, end, add, out_re, out_im);
+}
+
+// The second-order term: w_k l² ξ2 e^{−i2π(ξ3 H_k/λ + m_k·v)} det(M)^{−1/2} e^{−β uᵀM⁻¹u} with
+// u = v + a_k, M = I + iE, E = 2πσ² ξ3 H''_k/λ (Folland 1989 App. A Thm. 1; gabor_kernel_transform),
+// cut to |u| ≤ reach·√(1 + ε²) per axis, ε = ρ(E).
+template <typename T>
+[[gnu::always_inline]] inline void add_chirped_term(const T& px, const T& py, const T& height, const T& slope_x,
+                                                    const T& slope_y, const T& weight, const T& hxx, const T& hxy,
+                                                    const T& hyy, const TransformPoint& point, double reach2,
+                                                    double beta, double chirp_scale, T& sum_re, T& sum_im) {
+    const T ux = point.vx + point.xi3_over_lambda * slope_x;  // v + a_k (Yan 2018 eq. 15)
+    const T uy = point.vy + point.xi3_over_lambda * slope_y;
+    const T xi2 = 1.0 - point.xi2_gx * slope_x - point.xi2_gy * slope_y;
+    const double e = chirp_scale * point.xi3_over_lambda;
+    const T exx = e * hxx;
+    const T exy = e * hxy;
+    const T eyy = e * hyy;
+    // det M = (1 + iE_xx)(1 + iE_yy) + E_xy², uᵀM⁻¹u = uᵀ adj(M) u / det M.
+    const T det_re = 1.0 - (exx * eyy - exy * exy);
+    const T det_im = exx + eyy;
+    const T inverse_norm2 = 1.0 / (det_re * det_re + det_im * det_im);
+    const T inverse_abs = sqrt_of(inverse_norm2);  // 1/|det M|
+    const T det_abs = (det_re * det_re + det_im * det_im) * inverse_abs;
+    const T ux2 = ux * ux;
+    const T uy2 = uy * uy;
+    const T num_re = ux2 + uy2;
+    const T num_im = eyy * ux2 - 2.0 * exy * ux * uy + exx * uy2;
+    const T q_re = (num_re * det_re + num_im * det_im) * inverse_norm2;
+    const T q_im = (num_im * det_re - num_re * det_im) * inverse_norm2;
+    // det^{−1/2} = conj(√det)/|det|, √det = (r, det_im/(2r)), r = √((|det| + det_re)/2) > 0.
+    const T root_re = sqrt_of(0.5 * (det_abs + det_re));
+    const T root_im = det_im / (2.0 * root_re);
+    // Inside the widened box β Re(uᵀM⁻¹u) may exceed exp_neg's range; e^{−25} ≈ 1.4e-11 of a peak
+    // stands for anything smaller.
+    const T exponent = min_of(beta * q_re, T{} + 25.0);
+    const T amplitude = weight * xi2 * gabor_math::exp_neg(exponent) * inverse_abs;
+    T cos_phase;
+    T sin_phase;
+    gabor_math::cos_sin_turns(point.xi3_over_lambda * height + px * point.vx + py * point.vy +
+                                  beta * (0.5 / pi) * q_im,
+                              cos_phase, sin_phase);
+    const T half_difference = 0.5 * (exx - eyy);
+    const T mean = 0.5 * (exx + eyy);
+    const T epsilon = abs_of(mean) + sqrt_of(half_difference * half_difference + exy * exy);
+    const T reach2_k = reach2 * (1.0 + epsilon * epsilon);
+    const T kept = keep_inside(ux, uy, reach2_k, amplitude);
+    // (cos − i sin)(root_re − i root_im)
+    sum_re += kept * (cos_phase * root_re - sin_phase * root_im);
+    sum_im -= kept * (sin_phase * root_re + cos_phase * root_im);
+}
+
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+void sum_chirped_terms(const KernelArrays& k, std::size_t begin, std::size_t end, const TransformPoint& point,
+                       double reach, double beta, double chirp_scale, double& out_re, double& out_im) {
+    const double reach2 = reach * reach;
+    const auto add = [&](std::size_t i, auto& re, auto& im) __attribute__((always_inline)) {
+        using T = std::decay_t<decltype(re)>;
+        add_chirped_term(lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]), lanes<T>(&k.slope_x[i]),
+                         lanes<T>(&k.slope_y[i]), lanes<T>(&k.weight[i]), lanes<T>(&k.curvature_xx[i]),
+                         lanes<T>(&k.curvature_xy[i]), lanes<T>(&k.curvature_yy[i]), point, reach2, beta,
+                         chirp_scale, re, im);
+    };
+    sum_in_lanes(begin, end, add, out_re, out_im);
 }
 
 }  // namespace
@@ -88,6 +182,8 @@ KernelGrid kernel_grid(double texel_um, const GaborSettings& settings) {
     // The transform's Gaussian e^{−2π²σ²|v + a|²} has standard deviation 1/(2πσ) in v.
     grid.reach = settings.kernel_sigmas / (2.0 * pi * grid.sigma_um);
     grid.beta = 2.0 * pi * pi * grid.sigma_um * grid.sigma_um;
+    grid.order = settings.order;
+    grid.chirp_scale = 2.0 * pi * grid.sigma_um * grid.sigma_um;
     return grid;
 }
 
@@ -97,6 +193,14 @@ void evaluate_kernels(const BicubicInterpolant& surface, const KernelGrid& grid,
         surface.evaluate_samples(i0, j0, nx, ny, out);
     else
         surface.evaluate_grid(grid.centre(i0), grid.centre(j0), grid.spacing_um, nx, ny, out);
+}
+
+SurfaceCurvature kernel_curvature(const BicubicInterpolant& surface, const KernelGrid& grid, long long i, long long j) {
+    if (grid.kernels_per_texel == 1) {
+        const auto wrapped = [](long long index, int n) { return static_cast<int>(((index % n) + n) % n); };
+        return surface.sample_curvature(wrapped(i, surface.cols()), wrapped(j, surface.rows()));
+    }
+    return surface.curvature(grid.centre(i), grid.centre(j));
 }
 
 CoherenceWindow::CoherenceWindow(const Footprint& footprint, double footprint_sigmas) {
@@ -155,7 +259,10 @@ std::complex<double> sum_transforms(const KernelArrays& kernels, std::size_t beg
                                     const TransformPoint& point, const KernelGrid& grid) {
     double re = 0.0;
     double im = 0.0;
-    sum_kernel_terms(kernels, begin, end, point, grid.reach, grid.beta, re, im);
+    if (grid.order == 2)
+        sum_chirped_terms(kernels, begin, end, point, grid.reach, grid.beta, grid.chirp_scale, re, im);
+    else
+        sum_kernel_terms(kernels, begin, end, point, grid.reach, grid.beta, re, im);
     return {re, im};
 }
 

@@ -20,6 +20,8 @@ struct KernelGrid {
     double sigma_um = 0.5;    // σ_k = l/2 (Yan 2018 §4.2)
     double reach = 1.0;       // kernel_sigmas/(2πσ_k), cycles/µm: half-width of each transform's box
     double beta = 0.5;        // 2π²σ_k²: |F[g_k](v)| = e^{−β|v + a_k|²} (Yan 2018 eq. 8)
+    int order = 1;            // 2: chirped kernels, whose transforms carry H'' (GaborSettings::order)
+    double chirp_scale = 1.0;  // 2πσ_k²: ε = chirp_scale · ξ3/λ · H'' is M − I of each chirped kernel
     double centre(long long index) const { return (static_cast<double>(index) + 0.5) * spacing_um; }
 };
 KernelGrid kernel_grid(double texel_um, const GaborSettings& settings);
@@ -28,6 +30,23 @@ KernelGrid kernel_grid(double texel_um, const GaborSettings& settings);
 // into out[(j − j0)·nx + (i − i0)]. With K = 1 the centres are the samples themselves.
 void evaluate_kernels(const BicubicInterpolant& surface, const KernelGrid& grid, long long i0, long long j0, int nx,
                       int ny, SurfacePoint* out);
+
+// H'' at the kernel centre (i, j): the samples' stencil with K = 1, the interpolant's otherwise.
+SurfaceCurvature kernel_curvature(const BicubicInterpolant& surface, const KernelGrid& grid, long long i, long long j);
+
+// ρ(H'') = max |eigenvalue| of a curvature: a chirped kernel's transform spreads by ε = 2πσ²ξ3ρ/λ.
+inline double spectral_radius(double hxx, double hxy, double hyy) {
+    const double half_difference = 0.5 * (hxx - hyy);
+    return std::fabs(0.5 * (hxx + hyy)) + std::sqrt(half_difference * half_difference + hxy * hxy);
+}
+
+// A chirped kernel's transform is cut to |v + a_k| ≤ reach·√(1 + ε²) per axis: along H'''s
+// steepest eigenvector the Gaussian e^{−2π²σ² Re(uᵀM⁻¹u)} has standard deviation √(1 + ε²)/(2πσ), so
+// the cut lies at the same fraction of the peak as a first-order kernel's.
+inline double chirped_reach(double reach, double chirp_scale, double xi3_over_lambda, double radius) {
+    const double epsilon = chirp_scale * xi3_over_lambda * radius;
+    return reach * std::sqrt(1.0 + epsilon * epsilon);
+}
 
 // A footprint may hold at most this many kernels (their arrays take 48 bytes each).
 constexpr double kMaxFootprintKernels = 2e7;
@@ -110,7 +129,9 @@ public:
     void reserve_more(std::size_t count) {
         if (size_ + count <= px.size()) return;
         const std::size_t capacity = std::max(2 * px.size(), size_ + count);
-        for (auto* array : {&px, &py, &height, &slope_x, &slope_y, &weight}) array->resize(capacity);
+        for (auto* array : {&px, &py, &height, &slope_x, &slope_y, &weight, &curvature_xx, &curvature_xy,
+                            &curvature_yy})
+            array->resize(capacity);
     }
     // Appends `count` unset kernels, returning the index of the first, for callers that fill
     // the arrays directly.
@@ -132,6 +153,15 @@ public:
         slope_x[to] = source.slope_x[from];
         slope_y[to] = source.slope_y[from];
         weight[to] = source.weight[from];
+        curvature_xx[to] = source.curvature_xx[from];
+        curvature_xy[to] = source.curvature_xy[from];
+        curvature_yy[to] = source.curvature_yy[from];
+    }
+    // Sets H'' of kernel k (second order only; first-order sums never read it).
+    void set_curvature(std::size_t k, const SurfaceCurvature& c) {
+        curvature_xx[k] = c.d2h_dx2;
+        curvature_xy[k] = c.d2h_dxdy;
+        curvature_yy[k] = c.d2h_dy2;
     }
     void push(double x, double y, const SurfacePoint& at_centre, double reference_height, double w) {
         push(x, y, at_centre.height - reference_height, at_centre.dh_dx, at_centre.dh_dy, w);
@@ -152,6 +182,9 @@ public:
     std::vector<double> slope_x;
     std::vector<double> slope_y;
     std::vector<double> weight;
+    std::vector<double> curvature_xx;  // H'' (second order)
+    std::vector<double> curvature_xy;
+    std::vector<double> curvature_yy;
 
 private:
     std::size_t size_ = 0;
@@ -190,7 +223,9 @@ inline bool slopes_reach(double vx, double vy, double xi3_over_lambda, double re
 TransformPoint transform_point(DiffractionModel model, const FresnelAtWavelength& fresnel, Vec3 omega_i,
                                Vec3 omega_o, double lambda_um, double area_um2);
 
-// Σ_k w_k C_k F[g_k](v) over kernels [begin, end), each transform cut to its box |v + a_k| ≤ reach.
+// Σ_k w_k C_k F[g_k](v) over kernels [begin, end), each transform cut to its box |v + a_k| ≤ reach
+// (second order: ≤ chirped_reach, and each term also carries det(M_k)^{−1/2} e^{−β uᵀM_k⁻¹u},
+// M_k = I + iε_k, ε_k = 2πσ_k² ξ3 H''_k/λ, in place of e^{−β|u|²}: gabor_kernel_transform).
 // With C_k (Yan 2018 eq. 14), a_k (Yan 2018 eq. 15) and F[g_k] (Yan 2018 eq. 8), m_k·a_k = ξ3 H'_k·m_k/λ cancels the
 // H'·m term of C_k, leaving
 //   w_k C_k F[g_k](v) = w_k l² ξ2 e^{−i2π(ξ3 H_k/λ + m_k·v)} e^{−β|v + a_k|²}.

@@ -67,6 +67,9 @@ FootprintKernels gather_kernels(const BicubicInterpolant& surface, const KernelG
                     const double px = grid.centre(first + k) - centre.x;
                     const SurfacePoint& p = row[k];
                     kernels.arrays.push(px, py, p, reference_height, window.weight(px, py) * weight_scale);
+                    if (grid.order == 2)
+                        kernels.arrays.set_curvature(kernels.arrays.size() - 1,
+                                                     gabor::kernel_curvature(surface, grid, first + k, j));
                 }
             }
         }
@@ -441,14 +444,46 @@ void product_layer(const LayerSetup& layer, const FootprintKernels& kernels, Pro
     });
 }
 
+// Second order: a chirped kernel's transform is not separable in v_x and v_y (H_xy couples them),
+// so each sample sums every kernel's closed form (sum_transforms, the point query's sum) and ξ3
+// is exact at each sample.
+void chirped_layer(const LayerSetup& layer, const FootprintKernels& kernels, std::vector<double>& sums) {
+    const int m = layer.samples.size();
+    parallel_for(m, 1, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r)
+            for (int c = 0; c < m; ++c) {
+                const DiskPoint p = layer.samples.point(static_cast<int>(r), c);
+                if (!inside_unit_disk(p)) continue;
+                const gabor::TransformPoint point = transform_at(layer, p);
+                const std::complex<double> sum =
+                    gabor::sum_transforms(kernels.arrays, 0, kernels.arrays.size(), point, layer.grid);
+                sums[r * m + c] = point.brdf_scale * std::norm(sum);  // Yan 2018 eq. 16-17
+            }
+    });
+}
+
 void record_settings(const GaborSettings& settings, const KernelGrid& grid, const FootprintKernels& kernels,
                      const LobeQuery& query, LobeImage& image) {
     image.metadata["gabor.kernels_per_texel"] = std::to_string(settings.kernels_per_texel);
+    image.metadata["gabor.order"] = std::to_string(settings.order);
     image.metadata["gabor.kernel_spacing_um"] = shortest_text(grid.spacing_um);
     image.metadata["gabor.kernel_sigma_um"] = shortest_text(grid.sigma_um);
     image.metadata["gabor.kernels"] = std::to_string(kernels.arrays.size());
     if (query.footprint.shape == FootprintShape::gaussian)
         image.metadata["gabor.footprint_truncation_sigmas"] = shortest_text(settings.footprint_sigmas);
+}
+
+// Second order: the spectral reach a kernel's chirp adds within 2σ_k of its centre (where its
+// Gaussian is e^{−2} of its peak), ξ3 ρ(H'') 2√2 σ_k/λ at ξ3 ≤ 2 and the shortest wavelength;
+// farther out the Gaussian is small enough that the FFT's slope padding covers it.
+double chirp_bandwidth(const LobeQuery& query, const KernelGrid& grid, const FootprintKernels& kernels) {
+    if (grid.order != 2) return 0.0;
+    const KernelArrays& k = kernels.arrays;
+    double radius = 0.0;
+    for (std::size_t i = 0; i < k.size(); ++i)
+        radius = std::max(radius, gabor::spectral_radius(k.curvature_xx[i], k.curvature_xy[i], k.curvature_yy[i]));
+    const double shortest = *std::min_element(query.wavelengths_um.begin(), query.wavelengths_um.end());
+    return 2.0 * radius * 2.0 * std::sqrt(2.0) * grid.sigma_um / shortest;
 }
 
 // The kernels summed in space on the FFT method's grid and transformed by its chirp-z transforms
@@ -458,7 +493,7 @@ LobeImage gabor_lobe_on_grid(const LobeQuery& query, const GaborSettings& settin
     const Point2 centre = query.footprint.centre_um;
     const ReflectionSource source =
         gabor::kernel_field_source(kernels.arrays, grid, centre, query.surface->height(centre.x, centre.y),
-                                   query.model == DiffractionModel::kirchhoff);
+                                   query.model == DiffractionModel::kirchhoff, chirp_bandwidth(query, grid, kernels));
     std::map<double, gabor::FresnelAtWavelength> fresnel;
     for (double lambda : query.wavelengths_um) fresnel.emplace(lambda, gabor::FresnelAtWavelength(query.material, lambda));
     const ScatteringFactor xi1 = [&](const Vec3& psi, const Vec3& omega_o, double lambda) {
@@ -502,7 +537,10 @@ LobeImage gabor_lobe(const LobeQuery& query) {
         const LayerSetup setup{query, grid, window.area_um2(), lambda, fresnel, samples, phase_error};
         std::fill(sums.begin(), sums.end(), 0.0);
         int node_count = 0;
-        product_layer(setup, kernels, tables, sums, node_count);
+        if (settings.order == 2)
+            chirped_layer(setup, kernels, sums);
+        else
+            product_layer(setup, kernels, tables, sums, node_count);
         nodes.push_back(std::to_string(node_count));
         // Each pixel averages its S×S samples (samples outside the disk count as 0).
         const int s = samples.supersample;
@@ -518,6 +556,10 @@ LobeImage gabor_lobe(const LobeQuery& query) {
 
     record_settings(settings, grid, kernels, query, image);
     image.metadata["gabor.kernel_truncation_sigmas"] = shortest_text(settings.kernel_sigmas);
+    if (settings.order == 2) {
+        image.metadata["gabor.evaluation"] = "every chirped kernel's closed-form transform summed at every sample";
+        return image;
+    }
     image.metadata["gabor.xi3_nodes"] = join(nodes, ";");
     if (phase_depends_on_outgoing(query.model)) image.metadata["gabor.phase_error"] = shortest_text(phase_error);
     image.metadata["gabor.evaluation"] = "banded separable matrix products, one per xi3 node";
@@ -526,13 +568,15 @@ LobeImage gabor_lobe(const LobeQuery& query) {
 
 MethodEntry gabor_method() {
     return {{"gabor",
-             "Gabor kernels, one per cell of a regular grid, summed in closed form (default K = 2 per texel)",
+             "Gabor kernels, one per cell of a regular grid, summed in closed form (default: second order, K = 1 per texel)",
              "Yan 2018 §4-5, eq. 16-17",
              {Quantity::brdf},
              {},
-             {{"kernels_per_texel", "kernels per texel side K, an integer 1-16 (default 2)"},
+             {{"kernels_per_texel", "kernels per texel side K, an integer 1-16 (default 1)"},
               {"footprint_truncation", "drop kernels beyond this many sigma_c from the centre (default 3.25)"},
               {"kernel_truncation", "products evaluation: cut each kernel's transform at this many of its sigmas (default 3)"},
+              {"order", "1: heights expanded to first order in each kernel (Yan 2018); 2: to second order, chirped "
+                        "kernels (default 2)"},
               {"phase_error", "GHS, R-GHS, Kirchhoff: xi3 interpolation error bound, in flat-mirror peak amplitudes "
                               "(default 0.01)"},
               {"evaluation", "grid: kernels summed in space, transformed like fft (default; fast); products: the "

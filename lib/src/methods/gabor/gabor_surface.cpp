@@ -151,13 +151,14 @@ using Int8 = int __attribute__((vector_size(32)));
 }
 
 // K = 1, one y-up kernel row: the kernels of the leaves leaf_columns[0 … leaf_count) inside the
-// window's chord [first, last] whose differences lie within the bounds, their columns listed in
+// window's chord [first, last] whose differences lie within their leaf's bounds
+// (leaf_bounds[leaf · bounds_stride]: a stride of 0 shares one), their columns listed in
 // `columns` and counted. 8 slots are written per leaf and the count advanced by its survivors,
 // so that no branch depends on which kernels survive.
 GLINTSCOPE_OUT_OF_LINE_CLONES
 std::size_t list_row_survivors(const float* below, const float* row, const float* above, int cols,
                                const int* leaf_columns, std::size_t leaf_count, long long first, long long last,
-                               const DifferenceBounds& bounds, int* columns) {
+                               const DifferenceBounds* leaf_bounds, std::size_t bounds_stride, int* columns) {
     std::size_t count = 0;
     std::size_t leaf = 0;
     while (leaf < leaf_count && (leaf_columns[leaf] + 1LL) * kLeafKernels <= first) ++leaf;
@@ -166,8 +167,8 @@ std::size_t list_row_survivors(const float* below, const float* row, const float
         const long long skip_left = std::clamp<long long>(first - c0, 0, kLeafKernels);
         const long long skip_right = std::clamp<long long>(c0 + kLeafKernels - 1 - last, 0, kLeafKernels);
         const unsigned chord = (0xFFu << skip_left) & (0xFFu >> skip_right);
-        const unsigned bits =
-            chord & differences_within(below, row, above, c0, std::min(kLeafKernels, cols - c0), cols, bounds);
+        const unsigned bits = chord & differences_within(below, row, above, c0, std::min(kLeafKernels, cols - c0),
+                                                         cols, leaf_bounds[leaf * bounds_stride]);
         // columns[count + k] = c0 + position k, for all 8 slots at once.
         const SetBits& set = kSetBits[bits];
         const __m128i positions = _mm_unpacklo_epi8(
@@ -188,14 +189,19 @@ struct DirectionalReach {
     double vy = 0.0;
     double xi3_over_lambda = 0.0;
     double reach = 0.0;
+    double chirp_scale = 0.0;  // second order: 2πσ_k² (first order: 0, the reach never widens)
 
-    bool box_reaches(const GaborSurface::SlopeBox& box) const {
-        return gabor::slopes_reach(vx, vy, xi3_over_lambda, reach, box.x_min, box.x_max, box.y_min, box.y_max);
+    // The reach of kernels whose ρ(H'') is at most `radius` (gabor::chirped_reach, with the margin).
+    double reach_within(double radius) const {
+        return chirp_scale == 0.0 ? reach : gabor::chirped_reach(reach, chirp_scale, xi3_over_lambda, radius);
+    }
+    bool box_reaches(const GaborSurface::SlopeBox& box, double reach_here) const {
+        return gabor::slopes_reach(vx, vy, xi3_over_lambda, reach_here, box.x_min, box.x_max, box.y_min, box.y_max);
     }
     // The kernels of a leaf whose codes may hold a slope that reaches: v + ξ3 H'/λ ∈ [−reach,
     // reach] per axis is H' ∈ [(−reach − v)λ/ξ3, (reach − v)λ/ξ3] (ξ3 > 0).
     std::uint64_t leaf_reaches(const GaborSurface::SlopeBox& box, const unsigned char* codes_x,
-                               const unsigned char* codes_y) const {
+                               const unsigned char* codes_y, double reach) const {
         int first_x, span_x, first_y, span_y;
         SlopeCodec(box.x_min, box.x_max)
             .codes_of((-reach - vx) / xi3_over_lambda, (reach - vx) / xi3_over_lambda, first_x, span_x);
@@ -206,7 +212,7 @@ struct DirectionalReach {
     // The same test on the central differences of samples dx apart (K = 1): H' = Δ/(2dx). Δ is
     // rounded once in float, by at most 2^-24 of a Δ inside the bounds, so widening the bounds
     // by 2^-20 of their size and rounding them outward never drops a kernel that reaches.
-    DifferenceBounds difference_bounds(double texel_um) const {
+    DifferenceBounds difference_bounds(double texel_um, double reach) const {
         DifferenceBounds bounds;
         const auto axis = [&](double v, float& lo, float& hi) {
             const double a = 2.0 * texel_um * (-reach - v) / xi3_over_lambda;
@@ -290,11 +296,13 @@ struct SampledRow {
     double weight_y;          // w(0, p_y) l²
     const double* weight_x;   // w(p_x, 0) of columns first_column, first_column + 1, …
     long long first_column;
+    bool chirped;             // second order: also H''
 };
 
 // Appends the kernels at samples (columns[k], j), k < count: p relative to x_c, H − H(x_c), H'
-// and w_k l². H' is sample_point()'s (−½H(c − 1) + ½H(c + 1))/dx, computed as (H(c + 1) −
-// H(c − 1))·(½/dx), which rounds identically (halving is exact). Out of line and on local
+// and w_k l², and at second order H'' with sample_curvature()'s arithmetic. H' is
+// sample_point()'s (−½H(c − 1) + ½H(c + 1))/dx, computed as (H(c + 1) − H(c − 1))·(½/dx), which
+// rounds identically (halving is exact). Out of line and on local
 // copies: inlined into the query, the loop ran out of registers and reloaded everything from
 // memory; without wrapped columns it vectorises (gathers) where the CPU has AVX2.
 GLINTSCOPE_OUT_OF_LINE_CLONES
@@ -307,6 +315,11 @@ void append_sampled_kernels(const SampledRow& r, const int* columns, std::size_t
     double* __restrict slope_x = kernels.slope_x.data() + at;
     double* __restrict slope_y = kernels.slope_y.data() + at;
     double* __restrict weight = kernels.weight.data() + at;
+    double* __restrict curvature_xx = kernels.curvature_xx.data() + at;
+    double* __restrict curvature_xy = kernels.curvature_xy.data() + at;
+    double* __restrict curvature_yy = kernels.curvature_yy.data() + at;
+    const bool chirped = r.chirped;
+    const double curvature_scale = 1.0 / (r.texel_um * r.texel_um);
     const float* __restrict below = r.below;
     const float* __restrict row = r.row;
     const float* __restrict above = r.above;
@@ -326,6 +339,12 @@ void append_sampled_kernels(const SampledRow& r, const int* columns, std::size_t
         slope_x[k] = (double(row[right]) - double(row[left])) * half_inverse_texel;
         slope_y[k] = (double(above[c]) - double(below[c])) * half_inverse_texel;
         weight[k] = weight_x[c - first_column] * weight_y;
+        if (!chirped) return;
+        curvature_xx[k] = (double(row[left]) - 2.0 * double(row[c]) + double(row[right])) * curvature_scale;
+        curvature_yy[k] = (double(below[c]) - 2.0 * double(row[c]) + double(above[c])) * curvature_scale;
+        curvature_xy[k] = 0.25 *
+                          (double(above[right]) - double(above[left]) - double(below[right]) + double(below[left])) *
+                          curvature_scale;
     };
     if (count > 0 && columns[0] > 0 && columns[count - 1] + 1 < cols) {
         for (std::size_t k = 0; k < count; ++k) store(k, columns[k], columns[k] - 1, columns[k] + 1);
@@ -377,6 +396,8 @@ void GaborSurface::build_leaves() {
     // With K = 1 the kernels' H' are central differences of samples, as cheap to test as codes.
     const bool coded = settings_.kernels_per_texel > 1;
     if (coded) leaf_codes_.resize(leaves.boxes.size());
+    const bool chirped = settings_.order == 2;
+    if (chirped) leaves.curvature_radii.resize(leaves.boxes.size());
     // One row of leaves per chunk: interpolate its kLeafKernels rows of kernels in one grid call.
     parallel_for(leaves.ny, 1, [&](std::size_t begin, std::size_t end) {
         std::vector<SurfacePoint> points(static_cast<std::size_t>(kernels_x_) * kLeafKernels);
@@ -401,6 +422,15 @@ void GaborSurface::build_leaves() {
                     }
                 const SlopeBox box{round_down(x_min), round_up(x_max), round_down(y_min), round_up(y_max)};
                 leaves.boxes[leaf_row * leaves.nx + leaf_col] = box;
+                if (chirped) {
+                    double radius = 0.0;
+                    for (int j = j0; j < j0 + rows; ++j)
+                        for (int i = i0; i < i1; ++i) {
+                            const SurfaceCurvature c = gabor::kernel_curvature(*surface_, grid, i, j);
+                            radius = std::max(radius, gabor::spectral_radius(c.d2h_dx2, c.d2h_dxdy, c.d2h_dy2));
+                        }
+                    leaves.curvature_radii[leaf_row * leaves.nx + leaf_col] = round_up(radius);
+                }
                 if (!coded) continue;
                 const SlopeCodec codec_x(box.x_min, box.x_max);
                 const SlopeCodec codec_y(box.y_min, box.y_max);
@@ -426,17 +456,24 @@ void GaborSurface::build_parents() {
         parent.nx = (child.nx + 1) / 2;
         parent.ny = (child.ny + 1) / 2;
         parent.boxes.assign(static_cast<std::size_t>(parent.nx) * parent.ny, empty_box());
+        const bool chirped = !child.curvature_radii.empty();
+        if (chirped) parent.curvature_radii.assign(parent.boxes.size(), 0.0f);
         for (int j = 0; j < child.ny; ++j)
-            for (int i = 0; i < child.nx; ++i)
-                include(parent.boxes[static_cast<std::size_t>(j / 2) * parent.nx + i / 2],
-                        child.boxes[static_cast<std::size_t>(j) * child.nx + i]);
+            for (int i = 0; i < child.nx; ++i) {
+                const std::size_t to = static_cast<std::size_t>(j / 2) * parent.nx + i / 2;
+                const std::size_t from = static_cast<std::size_t>(j) * child.nx + i;
+                include(parent.boxes[to], child.boxes[from]);
+                if (chirped)
+                    parent.curvature_radii[to] = std::max(parent.curvature_radii[to], child.curvature_radii[from]);
+            }
         levels_.push_back(std::move(parent));
     }
 }
 
 std::size_t GaborSurface::memory_bytes() const {
     std::size_t bytes = sizeof(*this) + leaf_codes_.capacity() * sizeof(LeafCodes);
-    for (const Level& level : levels_) bytes += level.boxes.capacity() * sizeof(SlopeBox);
+    for (const Level& level : levels_)
+        bytes += level.boxes.capacity() * sizeof(SlopeBox) + level.curvature_radii.capacity() * sizeof(float);
     return bytes;
 }
 
@@ -451,6 +488,7 @@ struct CollectScratch {
     std::vector<int> leaf_columns;           // the surviving leaves of one leaf row
     std::vector<SurfacePoint> block;
     std::vector<int> survivor_columns;       // K = 1: kernels of one row that survive pruning
+    std::vector<DifferenceBounds> leaf_bounds;  // K = 1, second order: per surviving leaf of a leaf row
     SeparableWeights weights;
 };
 
@@ -472,6 +510,7 @@ struct GaborSurface::Collector {
     const gabor::CoherenceWindow window;
     const DirectionalReach reach;
     const bool sampled;  // K = 1: the kernels are the samples
+    const bool chirped;  // second order: each node's reach widens with its curvature radius
     const DifferenceBounds difference_bounds;
     const Point2 centre;
     const double reference_height;
@@ -489,7 +528,8 @@ struct GaborSurface::Collector {
           window(query.footprint, surface.settings_.footprint_sigmas),
           reach(directional_reach(query, prune_lambda_um, grid)),
           sampled(grid.kernels_per_texel == 1),
-          difference_bounds(sampled ? reach.difference_bounds(grid.spacing_um) : DifferenceBounds{}),
+          chirped(grid.order == 2),
+          difference_bounds(sampled ? reach.difference_bounds(grid.spacing_um, reach.reach) : DifferenceBounds{}),
           centre(query.footprint.centre_um),
           reference_height(surface.surface_->height(centre.x, centre.y)),
           weight_scale(grid.spacing_um * grid.spacing_um),
@@ -502,7 +542,12 @@ struct GaborSurface::Collector {
                                               const gabor::KernelGrid& grid) {
         const Vec3 psi = query.omega_i + query.omega_o;
         return {psi.x / lambda_um, psi.y / lambda_um, xi3(query.model, query.omega_i, query.omega_o) / lambda_um,
-                grid.reach * kReachMargin};
+                grid.reach * kReachMargin, grid.order == 2 ? grid.chirp_scale : 0.0};
+    }
+
+    // The directional reach of a node: widened by its curvature radius at second order.
+    double node_reach(const Level& level, std::size_t index) const {
+        return chirped ? reach.reach_within(level.curvature_radii[index]) : reach.reach;
     }
 
     bool leaf_range(double cx, double cy, LeafRange& range) const {
@@ -577,7 +622,7 @@ struct GaborSurface::Collector {
         const Level& level = surface.levels_[level_index];
         ++counts.nodes_visited;
         const std::size_t index = static_cast<std::size_t>(iy) * level.nx + ix;
-        if (!reach.box_reaches(level.boxes[index])) return;
+        if (!reach.box_reaches(level.boxes[index], node_reach(level, index))) return;
         if (level_index == 0) {
             scratch.leaf_map[static_cast<std::size_t>(iy - range.y0) * range.width() + (ix - range.x0)] = 1;
             if (!sampled) {
@@ -611,9 +656,9 @@ struct GaborSurface::Collector {
         const float* below = surface.surface_->sample_row(j == 0 ? rows - 1 : j - 1);
         const float* above = surface.surface_->sample_row(j + 1 == rows ? 0 : j + 1);
         int* columns = scratch.survivor_columns.data();
-        const std::size_t count =
-            list_row_survivors(below, row, above, surface.kernels_x_, scratch.leaf_columns.data(),
-                               scratch.leaf_columns.size(), first, last, difference_bounds, columns);
+        const std::size_t count = list_row_survivors(
+            below, row, above, surface.kernels_x_, scratch.leaf_columns.data(), scratch.leaf_columns.size(), first,
+            last, chirped ? scratch.leaf_bounds.data() : &difference_bounds, chirped ? 1 : 0, columns);
         counts.kernels_evaluated += count;
         const SampledRow sampled_row{below,
                                      row,
@@ -625,7 +670,8 @@ struct GaborSurface::Collector {
                                      reference_height,
                                      scratch.weights.along_y(j) * weight_scale,
                                      scratch.weights.columns(),
-                                     scratch.weights.first_column()};
+                                     scratch.weights.first_column(),
+                                     chirped};
         append_sampled_kernels(sampled_row, columns, count, kernels);
     }
 
@@ -648,7 +694,9 @@ struct GaborSurface::Collector {
         if (inside == 0) return;
         const std::size_t index = static_cast<std::size_t>(leaf_row) * surface.levels_.front().nx + leaf_column;
         const LeafCodes& codes = surface.leaf_codes_[index];
-        std::uint64_t bits = inside & reach.leaf_reaches(surface.levels_.front().boxes[index], codes.x, codes.y);
+        const Level& leaves = surface.levels_.front();
+        std::uint64_t bits =
+            inside & reach.leaf_reaches(leaves.boxes[index], codes.x, codes.y, node_reach(leaves, index));
         if (bits == 0) return;
         scratch.block.resize(static_cast<std::size_t>(kLeafKernels) * kLeafKernels);
         gabor::evaluate_kernels(*surface.surface_, grid, i0, j0, nx, ny, scratch.block.data());
@@ -660,6 +708,7 @@ struct GaborSurface::Collector {
             kernels.push(grid.centre(i) - cx, grid.centre(j) - cy,
                          scratch.block[static_cast<std::size_t>(k / kLeafKernels) * nx + k % kLeafKernels],
                          reference_height, scratch.weights.along_x(i) * scratch.weights.along_y(j) * weight_scale);
+            if (chirped) kernels.set_curvature(kernels.size() - 1, gabor::kernel_curvature(*surface.surface_, grid, i, j));
         }
     }
 
@@ -682,6 +731,14 @@ struct GaborSurface::Collector {
             // + 8: unpacking writes 8 slots past the survivors.
             scratch.survivor_columns.resize(
                 std::max(scratch.survivor_columns.size(), leaf_columns.size() * kLeafKernels + 8));
+            if (chirped) {
+                const Level& leaves = surface.levels_.front();
+                scratch.leaf_bounds.clear();
+                for (const int leaf_column : leaf_columns) {
+                    const std::size_t index = static_cast<std::size_t>(leaf_row) * leaves.nx + leaf_column;
+                    scratch.leaf_bounds.push_back(reach.difference_bounds(grid.spacing_um, node_reach(leaves, index)));
+                }
+            }
             for (int j = j0; j < j1; ++j)
                 if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0]);
             return;
@@ -787,15 +844,24 @@ std::vector<double> GaborSurface::f_r(const GaborPointQuery& query, const std::v
 
     // Order the survivors by the shortest wavelength that still reaches them, so that each
     // wavelength sums a prefix: kernel k reaches λ when λ ≥ λ_k = max_axis |ψ̄ + ξ3 H'_k| / reach.
+    // Second order: when max_axis |ψ̄ + ξ3 H'_k| ≤ reach·√(λ² + (2πσ² ξ3 ρ_k)²), which also grows
+    // with λ, so λ_k = √((max_axis |·|/reach)² − (2πσ² ξ3 ρ_k)²).
     const Vec3 psi = query.omega_i + query.omega_o;
     const double xi3_value = xi3(query.model, query.omega_i, query.omega_o);
     thread_local std::vector<int> first_reached;
     first_reached.resize(collected.size());
     std::vector<std::size_t> prefix(ascending.size() + 1, 0);
     for (std::size_t k = 0; k < collected.size(); ++k) {
-        const double needed = std::max(std::fabs(psi.x + xi3_value * collected.slope_x[k]),
-                                       std::fabs(psi.y + xi3_value * collected.slope_y[k])) /
-                              grid.reach * (1.0 - 1e-9);  // rounding errs towards keeping the kernel
+        double needed = std::max(std::fabs(psi.x + xi3_value * collected.slope_x[k]),
+                                 std::fabs(psi.y + xi3_value * collected.slope_y[k])) /
+                        grid.reach;
+        if (grid.order == 2) {
+            const double spread = grid.chirp_scale * xi3_value *
+                                  gabor::spectral_radius(collected.curvature_xx[k], collected.curvature_xy[k],
+                                                         collected.curvature_yy[k]);
+            needed = std::sqrt(std::max(0.0, needed * needed - spread * spread));
+        }
+        needed *= 1.0 - 1e-9;  // rounding errs towards keeping the kernel
         int shorter = 0;  // wavelengths too short to reach the kernel (a branch-free count)
         for (const double lambda : ascending) shorter += lambda < needed;
         first_reached[k] = shorter;

@@ -28,19 +28,24 @@ class KernelArrays;
 // ---- Settings shared by images and point queries -----------------------------------------
 
 struct GaborSettings {
-    // K: kernel spacing l = dx/K. The default is the lowest K whose R-OHS lobe of the canonical
-    // isotropic surface stays within 6% relative L2 of the FFT ground truth (docs/gabor.md).
-    int kernels_per_texel = 2;
+    // K: kernel spacing l = dx/K. With `order` the default is the cheapest setting whose R-OHS lobes
+    // stay within 3% relative L2 of the FFT ground truth on the builtins and a held-out surface:
+    // second order at K = 1 (0.3–0.9%; first order needs K = 4 for that, 2 gives 2–6%; docs/gabor.md).
+    int kernels_per_texel = 1;
     // Kernels farther than this many σ_c from x_c are dropped (Gaussian footprint only). Against
     // 3.5σ_c, the paper's 3σ_c adds 0.4% relative L2 at K = 4, 3.25σ_c 0.06% (docs/gabor.md).
     double footprint_sigmas = 3.25;
     // Each kernel's transform is zero outside |v + a_k| ≤ kernel_sigmas/(2πσ_k) per axis. The
     // paper's 3 standard deviations: 4 or 5 change the lobe by < 0.05% relative L2.
     double kernel_sigmas = 3.0;
+    // 1: H expanded to first order in each kernel (Yan 2018 eq. 12–15); 2: to second order, each
+    // kernel a chirped Gaussian whose transform widens to kernel_sigmas·√(1 + ε²)/(2πσ_k),
+    // ε = 2πσ_k² ξ3 ρ(H'')/λ (docs/gabor.md "Second order").
+    int order = 2;
 };
 
 // Throws Error naming the setting when it is out of range (K in 1..16, footprint truncation in
-// 1..8, kernel truncation in 1..5).
+// 1..8, kernel truncation in 1..5, order 1 or 2).
 void validate(const GaborSettings& settings);
 
 // ---- Point queries for renderers ----------------------------------------------------------
@@ -94,6 +99,9 @@ private:
         int nx = 0;
         int ny = 0;
         std::vector<SlopeBox> boxes;  // row-major, y-up like the kernel grid
+        // Second order: the largest ρ(H'') over each node's kernels (max |eigenvalue|, 1/µm,
+        // rounded up), which widens the node's directional reach; empty at first order.
+        std::vector<float> curvature_radii;
     };
     // Per leaf (K > 1 only), the codes of its kernels' ∂H/∂x then those of ∂H/∂y, kernel (i, j)
     // of the leaf at j·kLeafKernels + i: code = ⌊(H' − min) · 255/max(max − min, 1e-6)⌋ over the
