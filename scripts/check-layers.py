@@ -18,6 +18,7 @@ LAYERS = [
     ["wave", "normal_density", "fit"],
     ["methods"],
     ["pipeline"],
+    ["bsdf"],
     ["output"],
     ["maps", "validate", "batch"],
 ]

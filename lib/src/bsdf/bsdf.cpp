@@ -1,0 +1,144 @@
+// The BSDF and NDF contract over a method's lobe images (bsdf.hpp).
+#include "glintscope/bsdf/bsdf.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <utility>
+
+#include "bsdf/disk_table.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+
+namespace glintscope {
+namespace {
+
+// A caller's direction as a unit vector; throws on one that names no direction.
+Vec3 unit_direction(Vec3 omega, const char* name) {
+    const double norm = length(omega);
+    if (!std::isfinite(norm) || norm == 0.0) throw Error(std::string(name) + " is not a finite nonzero direction");
+    return (1.0 / norm) * omega;
+}
+
+// The query a method's tables are computed for: one footprint, point-sampled pixels.
+LobeQuery table_query(const std::string& method, const LobeQuery& query, Quantity quantity) {
+    LobeQuery planned = query;
+    planned.quantity = quantity;
+    planned.supersample = 1;
+    if (!planned.footprints.single())
+        throw Error("a " + to_string(quantity) + " object describes one footprint, not an average over " +
+                    to_string(planned.footprints));
+    return plan_lobe(method, planned).query;
+}
+
+}  // namespace
+
+struct Bsdf::State {
+    std::string method;
+    LobeQuery query;
+    // The tables of the most recent ω_i, newest last, under the mutex; a table is immutable and
+    // shared, so a reader keeps it while another thread replaces the list.
+    static constexpr std::size_t kKeptTables = 16;
+    std::mutex mutex;
+    std::vector<std::pair<Vec3, std::shared_ptr<const DiskTable>>> recent;
+
+    std::shared_ptr<const DiskTable> table(Vec3 omega_i) {
+        {
+            const std::lock_guard lock(mutex);
+            for (const auto& [key, table] : recent)
+                if (key.x == omega_i.x && key.y == omega_i.y && key.z == omega_i.z) return table;
+        }
+        // Computed outside the lock: two threads may both compute a new ω_i, with identical results.
+        LobeQuery one = query;
+        one.omega_i = omega_i;
+        auto made = std::make_shared<const DiskTable>(make_disk_table(compute_lobe(method, one)));
+        const std::lock_guard lock(mutex);
+        recent.emplace_back(omega_i, made);
+        if (recent.size() > kKeptTables) recent.erase(recent.begin());
+        return made;
+    }
+};
+
+Bsdf::Bsdf(std::shared_ptr<State> state) : state_(std::move(state)) {}
+
+const std::string& Bsdf::method() const { return state_->method; }
+const std::vector<double>& Bsdf::wavelengths_um() const { return state_->query.wavelengths_um; }
+
+std::vector<double> Bsdf::eval(Vec3 omega_i, Vec3 omega_o) const {
+    omega_i = unit_direction(omega_i, "omega_i");
+    omega_o = unit_direction(omega_o, "omega_o");
+    if (omega_i.z <= 0.0 || omega_o.z <= 0.0) return std::vector<double>(wavelengths_um().size(), 0.0);
+    return values_at(*state_->table(omega_i), omega_o.x, omega_o.y);
+}
+
+double Bsdf::pdf(Vec3 omega_i, Vec3 omega_o) const {
+    omega_i = unit_direction(omega_i, "omega_i");
+    omega_o = unit_direction(omega_o, "omega_o");
+    if (omega_i.z <= 0.0 || omega_o.z <= 0.0) return 0.0;
+    // dA on the disk = cosθ_o dω_o.
+    return disk_density(*state_->table(omega_i), omega_o.x, omega_o.y) * omega_o.z;
+}
+
+BsdfSample Bsdf::sample(Vec3 omega_i, double u1, double u2) const {
+    omega_i = unit_direction(omega_i, "omega_i");
+    BsdfSample result;
+    result.weight.assign(wavelengths_um().size(), 0.0);
+    if (omega_i.z <= 0.0) return result;
+    const auto table = state_->table(omega_i);
+    const auto point = sample_disk(*table, u1, u2);
+    if (!point) return result;
+    result.omega_o = direction_from_disk(point->x, point->y);
+    const double density = disk_density(*table, point->x, point->y);
+    result.pdf = density * result.omega_o.z;
+    const std::vector<double> f = values_at(*table, point->x, point->y);
+    // f_r cosθ_o / (p_A cosθ_o): the cosine cancels.
+    for (std::size_t k = 0; k < f.size(); ++k) result.weight[k] = f[k] / density;
+    return result;
+}
+
+std::vector<double> Bsdf::albedo(Vec3 omega_i) const {
+    omega_i = unit_direction(omega_i, "omega_i");
+    if (omega_i.z <= 0.0) return std::vector<double>(wavelengths_um().size(), 0.0);
+    return state_->table(omega_i)->integral;
+}
+
+Bsdf make_bsdf(const std::string& method, const LobeQuery& query) {
+    auto state = std::make_shared<Bsdf::State>();
+    state->method = method;
+    state->query = table_query(method, query, Quantity::brdf);
+    return Bsdf(std::move(state));
+}
+
+struct Ndf::State {
+    DiskTable table;
+};
+
+Ndf::Ndf(std::shared_ptr<const State> state) : state_(std::move(state)) {}
+
+std::vector<double> Ndf::eval(Vec3 h) const {
+    h = unit_direction(h, "h");
+    if (h.z <= 0.0) return std::vector<double>(state_->table.layers, 0.0);
+    return values_at(state_->table, h.x, h.y);
+}
+
+double Ndf::pdf(Vec3 h) const {
+    h = unit_direction(h, "h");
+    if (h.z <= 0.0) return 0.0;
+    return disk_density(state_->table, h.x, h.y) * h.z;
+}
+
+NdfSample Ndf::sample(double u1, double u2) const {
+    const auto point = sample_disk(state_->table, u1, u2);
+    if (!point) return {};
+    const Vec3 h = direction_from_disk(point->x, point->y);
+    return {h, disk_density(state_->table, point->x, point->y) * h.z};
+}
+
+std::vector<double> Ndf::normalisation() const { return state_->table.integral; }
+
+Ndf make_ndf(const std::string& method, const LobeQuery& query) {
+    const LobeQuery planned = table_query(method, query, Quantity::ndf);
+    return Ndf(std::make_shared<const Ndf::State>(Ndf::State{make_disk_table(compute_lobe(method, planned))}));
+}
+
+}  // namespace glintscope
