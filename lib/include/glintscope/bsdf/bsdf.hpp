@@ -9,10 +9,11 @@
 // Directions are in the heightfield's frame (+z the mean normal); ω_i points toward the light,
 // ω_o toward the viewer; either below the horizon gives f_r = 0 and pdf = 0.
 //
-// A method answers from its own lobe image of the footprint unless its folder supplies a point
-// query (docs/renderer.md lists which): the image of ω_i at supersample 1, read at the pixel
-// holding ω_o, and sampled as a piecewise-constant distribution on the projected disk with the
-// exact pdf. Such tables are made on first use of an ω_i and the most recent ones are kept.
+// A method answers with its own point query and sampler where its folder supplies them
+// (docs/renderer.md lists which), otherwise from its lobe image of the footprint: the image of
+// ω_i at supersample 1, read at the pixel holding ω_o, and sampled as a piecewise-constant
+// distribution on the projected disk with the exact pdf. Such tables are made on first use of
+// an ω_i and the most recent ones are kept.
 #include <cstddef>
 #include <memory>
 #include <string>
@@ -42,6 +43,11 @@ public:
 
     const std::string& method() const;
     const std::vector<double>& wavelengths_um() const;
+    // Whether eval is the method's own point query (else its images' pixels); albedo is then the
+    // image's disk sum at supersample 4, computed from eval.
+    bool evaluates_directly() const;
+    // Whether sample and pdf are the method's own sampler (else a pixel of its images).
+    bool samples_directly() const;
 
     struct State;  // the method's parts and the tables (bsdf.cpp)
     explicit Bsdf(std::shared_ptr<State> state);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "normal_density/microfacet_answers.hpp"
 #include "normal_density/normal_density.hpp"
 #include "numerics/disk_table.hpp"
 #include "glintscope/core/error.hpp"
@@ -118,47 +119,75 @@ NdfFit ellipsoid_fit(const DiskTable& density) {
     return fit_ndf(image, NdfModelKind::ellipsoid);
 }
 
+// What a footprint's lobe needs, computed once: the NDF table and the shadowing's own tables.
+struct GeometricFootprint {
+    GeometricSettings settings;
+    DiskTable density;
+    DiskTable smith_g1;  // Smith only
+    NdfFit ellipsoid;    // ellipsoid only
+};
+
+GeometricFootprint geometric_footprint(const LobeQuery& query) {
+    GeometricFootprint footprint;
+    footprint.settings = read_settings(query);
+    footprint.density = density_table(query, footprint.settings);
+    if (footprint.settings.shadowing == Shadowing::smith) footprint.smith_g1 = smith_table(footprint.density);
+    if (footprint.settings.shadowing == Shadowing::ellipsoid) footprint.ellipsoid = ellipsoid_fit(footprint.density);
+    return footprint;
+}
+
+double shadowing_masking(const GeometricFootprint& footprint, Vec3 omega_i, Vec3 omega_o, Vec3 h) {
+    switch (footprint.settings.shadowing) {
+        case Shadowing::none: return 1.0;
+        case Shadowing::smith:
+            return footprint.smith_g1.at(omega_i.x, omega_i.y) * footprint.smith_g1.at(omega_o.x, omega_o.y);
+        case Shadowing::ellipsoid:
+            return ellipsoid_shadowing_masking(footprint.ellipsoid.model.parameters, omega_i, omega_o, h);  // Dong 2015 eq. 13
+    }
+    return 1.0;
+}
+
+std::vector<ComplexIndex> refractive_indices(const LobeQuery& query) {
+    std::vector<ComplexIndex> indices;
+    if (!query.material.name.empty())
+        for (double lambda : query.wavelengths_um) indices.push_back(complex_refractive_index(query.material.name, lambda));
+    return indices;
+}
+
+// The image is the point answers' eval at every sub-pixel, so the two agree by construction.
 LobeImage geometric_lobe(const LobeQuery& query) {
-    const GeometricSettings settings = read_settings(query);
-    const DiskTable density = density_table(query, settings);
-    const bool smith = settings.shadowing == Shadowing::smith;
-    const DiskTable smith_g1 = smith ? smith_table(density) : DiskTable{};
-    const NdfFit ellipsoid = settings.shadowing == Shadowing::ellipsoid ? ellipsoid_fit(density) : NdfFit{};
+    const GeometricFootprint footprint = geometric_footprint(query);
+    const GeometricSettings& settings = footprint.settings;
+    const std::vector<ComplexIndex> indices = refractive_indices(query);
     const Vec3 omega_i = query.omega_i;
-    const double g1_i = smith ? smith_g1.at(omega_i.x, omega_i.y) : 1.0;
-    const auto shadowing = [&](DiskPoint p, Vec3 omega_o, Vec3 h) {
-        switch (settings.shadowing) {
-            case Shadowing::none: return 1.0;
-            case Shadowing::smith: return g1_i * smith_g1.at(p.x, p.y);
-            case Shadowing::ellipsoid:
-                return ellipsoid_shadowing_masking(ellipsoid.model.parameters, omega_i, omega_o, h);  // Dong 2015 eq. 13
-        }
-        return 1.0;
-    };
     LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
-    const bool has_material = !query.material.name.empty();
-    for (std::size_t l = 0; l < query.wavelengths_um.size(); ++l) {
-        const ComplexIndex eta =
-            has_material ? complex_refractive_index(query.material.name, query.wavelengths_um[l]) : ComplexIndex{};
+    for (std::size_t l = 0; l < query.wavelengths_um.size(); ++l)
         fill_by_direction(image, l, query.supersample, [&](DiskPoint p) {
             const Vec3 omega_o = direction_from_disk(p.x, p.y);
             const Vec3 h = normalize(omega_i + omega_o);
-            const double fresnel = has_material ? fresnel_conductor(eta, dot(omega_i, h)) : 1.0;
-            return fresnel * density.at(h.x, h.y) * shadowing(p, omega_o, h) /
+            const double fresnel = indices.empty() ? 1.0 : fresnel_conductor(indices[l], dot(omega_i, h));
+            return fresnel * footprint.density.at(h.x, h.y) * shadowing_masking(footprint, omega_i, omega_o, h) /
                    (4.0 * omega_i.z * omega_o.z);  // Dong 2015 eq. 1
         });
-    }
     image.metadata["geometric.ndf"] = settings.filtered ? "filtered" : "pndf";
     image.metadata["geometric.shadowing"] = method_option_text(query, "shadowing", "none");
     if (settings.shadowing == Shadowing::ellipsoid) {
-        const EllipsoidNdf& e = ellipsoid.model.parameters;
+        const EllipsoidNdf& e = footprint.ellipsoid.model.parameters;
         image.metadata["geometric.ellipsoid"] = join_numbers({e.alpha_x, e.alpha_y, e.theta_x, e.theta_y, e.theta_z});
-        image.metadata["geometric.ellipsoid_relative_error"] = shortest_text(ellipsoid.relative_error);
+        image.metadata["geometric.ellipsoid_relative_error"] = shortest_text(footprint.ellipsoid.relative_error);
     }
-    image.metadata["geometric.ndf_resolution"] = std::to_string(density.resolution);
+    image.metadata["geometric.ndf_resolution"] = std::to_string(footprint.density.resolution);
     image.metadata["geometric.refinement"] = std::to_string(settings.density.refinement);
     if (settings.filtered) image.metadata["geometric.filter_sigma_um"] = shortest_text(settings.filter_sigma_um);
     return image;
+}
+
+PointAnswers geometric_point(const LobeQuery& query) {
+    auto footprint = std::make_shared<const GeometricFootprint>(geometric_footprint(query));
+    MicrofacetTable table{footprint->density, refractive_indices(query), {}};
+    if (footprint->settings.shadowing != Shadowing::none)
+        table.shadowing = [footprint](Vec3 i, Vec3 o, Vec3 h) { return shadowing_masking(*footprint, i, o, h); };
+    return microfacet_answers(std::move(table), query.wavelengths_um.size());
 }
 
 }  // namespace
@@ -178,6 +207,7 @@ MethodEntry geometric_method() {
     for (const MethodOption& option : normal_density_options()) entry.info.options.push_back(option);
     entry.info.whole_field = true;
     entry.compute = geometric_lobe;
+    entry.point = geometric_point;
     return entry;
 }
 

@@ -1,8 +1,9 @@
-#include "bsdf/disk_table.hpp"
+#include "numerics/disk_distribution.hpp"
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <utility>
 
 #include "core/counter_rng.hpp"
 
@@ -51,13 +52,13 @@ double area_inside_disk(double x0, double x1, double y0, double y1) {
     return chord_overlap_integral(x0, x1, y0, y1);
 }
 
-DiskTable make_disk_table(const LobeImage& image) {
-    DiskTable table;
-    const int n = image.resolution;
+DiskDistribution make_disk_distribution(int resolution, std::size_t layers, std::vector<double> values) {
+    DiskDistribution table;
+    const int n = resolution;
     const std::size_t pixels = std::size_t(n) * n;
     table.resolution = n;
-    table.layers = image.layers();
-    table.values.assign(image.values.begin(), image.values.end());
+    table.layers = layers;
+    table.values = std::move(values);
     table.area.assign(pixels, 0.0);
     table.cumulative.assign(pixels, 0.0);
     table.integral.assign(table.layers, 0.0);
@@ -85,7 +86,7 @@ DiskTable make_disk_table(const LobeImage& image) {
     return table;
 }
 
-long pixel_of(const DiskTable& table, double x, double y) {
+long pixel_of(const DiskDistribution& table, double x, double y) {
     if (!(x * x + y * y < 1.0)) return -1;
     const int n = table.resolution;
     const int col = std::clamp(static_cast<int>(std::floor((x + 1.0) * 0.5 * n)), 0, n - 1);
@@ -93,7 +94,7 @@ long pixel_of(const DiskTable& table, double x, double y) {
     return long(row) * n + col;
 }
 
-std::vector<double> values_at(const DiskTable& table, double x, double y) {
+std::vector<double> values_at(const DiskDistribution& table, double x, double y) {
     std::vector<double> values(table.layers, 0.0);
     const long p = pixel_of(table, x, y);
     if (p < 0) return values;
@@ -102,14 +103,14 @@ std::vector<double> values_at(const DiskTable& table, double x, double y) {
     return values;
 }
 
-double disk_density(const DiskTable& table, double x, double y) {
+double disk_density(const DiskDistribution& table, double x, double y) {
     const long p = pixel_of(table, x, y);
     if (p < 0 || table.total <= 0.0 || table.area[p] <= 0.0) return 0.0;
     const double previous = p == 0 ? 0.0 : table.cumulative[p - 1];
     return (table.cumulative[p] - previous) / table.area[p];
 }
 
-std::optional<DiskPoint> sample_disk(const DiskTable& table, double u1, double u2) {
+std::optional<DiskPoint> sample_disk(const DiskDistribution& table, double u1, double u2) {
     if (table.total <= 0.0) return std::nullopt;
     // The pixel whose cumulative range holds u1; zero-probability pixels have empty ranges.
     const auto found = std::upper_bound(table.cumulative.begin(), table.cumulative.end(), u1);
