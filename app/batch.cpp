@@ -1,6 +1,7 @@
 // glintscope batch MANIFEST.toml [--jobs N] [--shard I/N] [--force]: a comparison figure from a
 // manifest, computing only the panels that are missing or out of date (docs/batch.md).
 #include <cstdio>
+#include <map>
 #include <memory>
 
 #include "commands.hpp"
@@ -47,6 +48,15 @@ void run(const BatchSettings& settings) {
             progress.update(done, total, what);
         });
     }
+    // Warnings per panel; each distinct note (e.g. the supersampling chosen) once, with its panels.
+    std::map<std::string, std::vector<std::string>> notes;
+    for (const PanelReport& panel : result.panels) {
+        for (const std::string& warning : panel.warnings)
+            std::fprintf(stderr, "glintscope: warning: %s: %s\n", panel.panel.c_str(), warning.c_str());
+        for (const std::string& note : panel.notes) notes[note].push_back(panel.panel);
+    }
+    for (const auto& [note, panels] : notes)
+        std::fprintf(stderr, "glintscope: note: %s (%zu panel%s)\n", note.c_str(), panels.size(), panels.size() == 1 ? "" : "s");
     std::printf("%zu panel%s computed, %zu up to date\n", result.computed, result.computed == 1 ? "" : "s",
                 result.up_to_date);
     if (result.assembled)

@@ -26,6 +26,7 @@ struct ImageCommandSettings {
     std::string method;
     QueryText given;                // query keys from flags, in command-line order
     std::string from;
+    bool allow_changed_heightfield = false;
     std::string output;
     std::string png;
     std::string json;
@@ -103,16 +104,17 @@ void check_outputs(const ImageCommandSettings& settings) {
     if (!settings.json.empty()) check_output_path(settings.json, {"json"}, "--json");
 }
 
-// The query text: --from's recorded query, overridden by the flags given, with the command's
-// quantity; and the method: --method, else the one recorded, else the command's default.
-QueryText query_text_of(const ImageCommandSettings& settings, const std::string& heightfield, std::string& method) {
+// The query: --from's recorded one (its heightfield checked against the recorded MD5), overridden
+// by the flags given, with the command's quantity; and the method: --method, else the one
+// recorded, else the command's default.
+LobeQuery query_of(const ImageCommandSettings& settings, const std::string& heightfield, std::string& method) {
     QueryText given = settings.given;
     if (!heightfield.empty()) given.emplace_back("heightfield", heightfield);
     given.emplace_back("quantity", to_string(settings.quantity));
-    if (settings.from.empty()) return given;
-    const Provenance recorded = read_output_metadata(settings.from);
-    if (method.empty() && recorded.count("method")) method = recorded.at("method");
-    return merge_query_text(query_text_from_metadata(recorded), given);
+    if (settings.from.empty()) return make_query(given);
+    RecordedRun recorded = recorded_run(settings.from, given, settings.allow_changed_heightfield);
+    if (method.empty()) method = recorded.method;
+    return std::move(recorded.query);
 }
 
 void print_summary(const LobeImage& image, const std::string& method, DiffractionModel model) {
@@ -139,10 +141,9 @@ void run(const ImageCommandSettings& settings, const std::string& heightfield, s
          const std::string& default_method) {
     check_outputs(settings);
     const LobeOutputOptions options = output_options(settings);
-    const QueryText text = query_text_of(settings, heightfield, method);
+    if (!method.empty()) lobe_method(method);  // an unknown method fails before the heightfield is loaded
+    const LobeQuery query = query_of(settings, heightfield, method);
     if (method.empty()) method = default_method;
-    lobe_method(method);  // an unknown method fails before the heightfield is loaded
-    const LobeQuery query = make_query(text);
     LobeRun run;
     {
         ProgressBar progress("footprints");
@@ -178,6 +179,8 @@ void add_image_command(CLI::App& command, Quantity quantity, const std::string& 
     command.add_option("--method", *method, "Method (default " + default_method + "): " + join(names));
     command.add_option("--from", settings->from,
                        "Re-run the query recorded in an EXR, PNG or JSON this tool wrote; flags given override it");
+    command.add_flag("--allow-changed-heightfield", settings->allow_changed_heightfield,
+                     "With --from: re-run even if the heightfield file's bytes differ from the recorded MD5");
     add_query_flags(command, settings->given, quantity, {"quantity"});
     add_method_option_flags(command, settings->given, quantity);
     add_output_flags(command, *settings);

@@ -2,6 +2,7 @@
 //   --kernels-per-texel LIST [--report OUT.json] [--csv OUT.csv] [--fail-above X]:
 // the Gabor method against the FFT ground truth (or any two methods) on the same queries.
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 
@@ -90,7 +91,12 @@ void write_pair(const std::string& directory, std::size_t index, const Validatio
 void run(const ValidateSettings& settings) {
     if (!settings.report.empty()) check_output_path(settings.report, {"json"}, "--report");
     if (!settings.csv.empty()) check_output_path(settings.csv, {"csv"}, "--csv");
-    if (!settings.images.empty()) check_output_path(settings.images + "/pair-1.png", {"png"}, "--images");
+    if (!settings.images.empty()) {
+        std::error_code error;
+        std::filesystem::create_directories(settings.images, error);
+        if (error) throw Error("--images: cannot create the folder '" + settings.images + "': " + error.message());
+        check_output_path(settings.images + "/pair-1.png", {"png"}, "--images");
+    }
     if (!settings.convergence.empty()) check_output_path(settings.convergence, {"csv"}, "--convergence");
     const ValidationPlan plan = plan_of(settings);
     if (!settings.convergence.empty()) {

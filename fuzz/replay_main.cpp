@@ -1,6 +1,7 @@
-// Feeds every file of the given folders to the target once (the seed corpora under tests/fuzz/
-// as regression tests in every build, no libFuzzer needed). A crash or any exception other than
-// the targets' own handling fails the run.
+// Feeds every file of the given folders to the target once (the seed corpora as regression tests
+// in every build, no libFuzzer needed); a folder that does not exist holds no seeds (tests/fuzz/
+// <target>/ appears with the first crash kept). A crash or any exception other than the targets'
+// own handling fails the run, and so does a run that replayed nothing.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,7 +12,8 @@
 
 int main(int argc, char** argv) {
     int inputs = 0;
-    for (int a = 1; a < argc; ++a)
+    for (int a = 1; a < argc; ++a) {
+        if (!std::filesystem::is_directory(argv[a])) continue;
         for (const auto& entry : std::filesystem::directory_iterator(argv[a])) {
             if (!entry.is_regular_file()) continue;
             std::ifstream stream(entry.path(), std::ios::binary);
@@ -19,6 +21,7 @@ int main(int argc, char** argv) {
             LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
             ++inputs;
         }
+    }
     std::printf("%d inputs replayed\n", inputs);
     return inputs > 0 ? 0 : 1;
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Time-boxed fuzzing of every parser with libFuzzer (clang from Debian), AddressSanitizer and
 # UndefinedBehaviorSanitizer: builds build-fuzz with clang and GLINTSCOPE_FUZZ=ON, then runs each
-# target for SECONDS (default 60) on a working copy of its seed corpus (tests/fuzz/<target>/).
+# target for SECONDS (default 60) on a working copy of its seed corpus (tests/fuzz/heightfield/, heightfields/ for recipes, figures/ for manifests).
 # A crash leaves its input as build-fuzz/crash-*; add it to tests/fuzz/<target>/ once fixed, so
 # the ctest replay (FuzzCorpus.<target>) keeps it fixed.
 #   bash scripts/fuzz.sh [SECONDS]
@@ -19,7 +19,13 @@ status=0
 for target in heightfield recipe manifest; do
   corpus="$build/corpus/$target"
   mkdir -p "$corpus"
-  cp -n tests/fuzz/"$target"/* "$corpus"/
+  case "$target" in  # the seeds ctest replays (fuzz/CMakeLists.txt)
+    heightfield) seeds=tests/fuzz/heightfield ;;
+    recipe) seeds=heightfields ;;
+    manifest) seeds=figures ;;
+  esac
+  cp -n "$seeds"/* "$corpus"/
+  [ -d tests/fuzz/"$target" ] && cp -n tests/fuzz/"$target"/* "$corpus"/
   echo "== $target: ${seconds} s"
   (cd "$build" && "./fuzz/${target}_fuzzer" -max_total_time="$seconds" -rss_limit_mb=2048 -max_len=65536 \
      "corpus/$target") || status=1

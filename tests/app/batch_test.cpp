@@ -65,5 +65,54 @@ TEST(BatchCommand, AMalformedManifestComputesNothing) {
     EXPECT_EQ(testing::count_entries(directory.path()), 1);  // nothing but the manifest
 }
 
+// Three metals at three wavelengths (fft, R-OHS, 20 degrees, res 128): no false hot spot on the
+// rim (the pipeline supersamples the panels as `lobe` does), and R-OHS's excess energy over what
+// each metal's Fresnel factor lets through is said per panel, naming the model's term.
+TEST(BatchCommand, MaterialPanelsPeakInsideTheLobeAndEnergyBeyondFresnelIsWarnedPerPanel) {
+    TemporaryDirectory directory;
+    std::ofstream(directory.file("m.toml")) << R"(title = "Materials"
+output = "m.png"
+[defaults]
+heightfield = "builtin:isotropic"
+method = "fft"
+res = 128
+incident = [20, 0]
+[[row]]
+label = "Ag"
+material = "Ag"
+[[row]]
+label = "Au"
+material = "Au"
+[[row]]
+label = "Cu"
+material = "Cu"
+[[column]]
+label = "0.45"
+lambda = "0.45um"
+[[column]]
+label = "0.55"
+lambda = "0.55um"
+[[column]]
+label = "0.65"
+lambda = "0.65um"
+)";
+    const auto run = testing::run_cli({"batch", directory.file("m.toml")});
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    for (const char* metal : {"Ag", "Au", "Cu"})
+        for (const char* lambda : {"0.45", "0.55", "0.65"}) {
+            const std::string panel = std::string(metal) + " / " + lambda;
+            EXPECT_NE(run.output.find("warning: " + panel + ": albedo"), std::string::npos) << panel << "\n" << run.output;
+        }
+    EXPECT_NE(run.output.find("xi1"), std::string::npos) << run.output;
+    for (int row = 1; row <= 3; ++row)
+        for (int column = 1; column <= 3; ++column) {
+            const std::string json = read_bytes(directory.file("m.panels/r" + std::to_string(row) + "-c" +
+                                                               std::to_string(column) + ".json"));
+            const auto at = json.find("\"peak_theta_deg\":");
+            ASSERT_NE(at, std::string::npos) << json;
+            EXPECT_LT(std::stod(json.substr(at + 17)), 80.0) << "r" << row << "-c" << column;
+        }
+}
+
 }  // namespace
 }  // namespace glintscope

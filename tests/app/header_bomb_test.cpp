@@ -182,7 +182,7 @@ TEST(HeaderBomb, EachFormatIsRefusedFromItsHeaderQuicklyAndSmall) {
         EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
         EXPECT_NE(result.output.find("cannot read"), std::string::npos) << result.output;
 #ifndef __SANITIZE_ADDRESS__  // AddressSanitizer's start-up, shadow and quarantine alone approach the bounds
-        EXPECT_LT(seconds, 1.0) << path;
+        EXPECT_LT(seconds, 10.0) << path;  // refused from the header, not after reading: generous for a loaded CI
         EXPECT_GT(megabytes, 0) << path;
         EXPECT_LT(megabytes, 200) << path;
 #endif

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -33,6 +34,19 @@ TEST(ValidateCommand, ReportsAndFailAboveFlipsTheExitCode) {
     const auto fails = run_cli(failing);
     EXPECT_NE(fails.exit_code, 0);
     EXPECT_NE(fails.output.find("exceeds --fail-above"), std::string::npos) << fails.output;
+}
+
+// --footprints grid:2 means 2 x 2 footprints, a row and a picture each; --images makes its folder.
+TEST(ValidateCommand, AGridOfTwoValidatesFourFootprintsIntoANewImagesFolder) {
+    TemporaryDirectory directory;
+    const std::string images = directory.file("new/pairs");
+    const auto result = run_cli({"validate", "builtin:isotropic", "--res", "32", "--kernels-per-texel", "1", "--footprints",
+                                 "grid:2", "--report", directory.file("r.json"), "--images", images});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    std::ifstream stream(directory.file("r.json"));
+    EXPECT_EQ(nlohmann::json::parse(stream)["rows"].size(), 4u);
+    for (int k = 1; k <= 4; ++k) EXPECT_TRUE(std::filesystem::exists(images + "/pair-" + std::to_string(k) + ".png")) << k;
+    EXPECT_FALSE(std::filesystem::exists(images + "/pair-5.png"));
 }
 
 TEST(ValidateCommand, AMissingReportDirectoryFailsBeforeComputing) {

@@ -64,13 +64,17 @@ bool up_to_date(const std::string& exr, const std::string& hash) {
     }
 }
 
-void compute_panel(const ManifestPanel& panel, const std::string& exr, const std::string& hash) {
-    LobeImage image = compute_lobe(panel.method, make_query(panel.query));
-    image.metadata["batch.hash"] = hash;
+// The panel through the one pipeline (as `lobe` runs it), with the notes and warnings to say.
+PanelReport compute_panel(const Manifest& manifest, const ManifestPanel& panel, const std::string& exr,
+                          const std::string& hash) {
+    LobeRun run = run_lobe(panel.method, make_query(panel.query));
+    run.image.metadata["batch.hash"] = hash;
     LobeOutputOptions options;
     options.spectral_channels = true;  // so that the panel reads back exactly
-    write_lobe_exr(image, exr, options);
-    write_lobe_json(image, exr.substr(0, exr.size() - 4) + ".json", options);
+    write_lobe_exr(run.image, exr, options);
+    write_lobe_json(run.image, exr.substr(0, exr.size() - 4) + ".json", options);
+    return {manifest.row_labels[panel.row] + " / " + manifest.column_labels[panel.column], std::move(run.notes),
+            std::move(run.warnings)};
 }
 
 void write_record(const Manifest& manifest, const std::string& path) {
@@ -164,11 +168,14 @@ BatchResult run_batch(const Manifest& manifest, const BatchOptions& options, con
     std::atomic<std::size_t> next{0}, done{0};
     std::mutex mutex;
     std::exception_ptr failure;
+    std::vector<PanelReport> reports(to_compute.size());
     const auto work = [&] {
         for (std::size_t k; (k = next++) < to_compute.size();) {
             const auto& [panel, hash] = to_compute[k];
             try {
-                compute_panel(*panel, panel_path(manifest, *panel), hash);
+                PanelReport report = compute_panel(manifest, *panel, panel_path(manifest, *panel), hash);
+                std::lock_guard lock(mutex);
+                reports[k] = std::move(report);
             } catch (...) {
                 std::lock_guard lock(mutex);
                 if (!failure) failure = std::current_exception();
@@ -186,6 +193,8 @@ BatchResult run_batch(const Manifest& manifest, const BatchOptions& options, con
     for (std::thread& worker : workers) worker.join();
     if (failure) std::rethrow_exception(failure);
     result.computed = to_compute.size();
+    for (PanelReport& report : reports)
+        if (!report.notes.empty() || !report.warnings.empty()) result.panels.push_back(std::move(report));
     if (options.shard_count == 1) assemble(manifest, output, result);
     return result;
 }

@@ -129,11 +129,12 @@ void check_heightfield(const std::string& argument, const std::string& base_dir)
     if (!std::filesystem::is_regular_file(file)) throw Error("heightfield '" + argument + "' does not exist");
 }
 
-// Relative heightfield paths are relative to the manifest's folder.
+// Relative heightfield paths are relative to the manifest's folder; panels record them absolute,
+// so that `lobe --from PANEL.exr` re-runs a panel from any folder.
 void resolve_paths(QueryText& query, const std::string& base_dir) {
     for (auto& [key, value] : query)
         if (key == "heightfield" && !value.starts_with("builtin:") && !std::filesystem::path(value).is_absolute())
-            value = (std::filesystem::path(base_dir) / value).lexically_normal().string();
+            value = std::filesystem::absolute(std::filesystem::path(base_dir) / value).lexically_normal().string();
 }
 
 bool parse_log_scale(const std::string& path, const toml::table& root) {

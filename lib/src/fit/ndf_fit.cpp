@@ -160,18 +160,6 @@ double objective(unsigned, const double* x, double*, void* data) {
     return squared_error(*problem.samples, from_variables(problem.kind, x)) / problem.norm;
 }
 
-// A = S R and Q A give the same D for any rotation Q (eq. 10 uses only |A|, ‖A n‖, ‖A⁻ᵀ m‖);
-// Q = R_z(π) maps (θ_x, θ_y, θ_z) to (−θ_x, −θ_y, θ_z + π). The fit reports |θ_z| ≤ π/2.
-EllipsoidNdf canonical_angles(EllipsoidNdf ndf) {
-    ndf.theta_z = std::remainder(ndf.theta_z, 2.0 * pi);
-    if (std::abs(ndf.theta_z) > 0.5 * pi) {
-        ndf.theta_x = -ndf.theta_x;
-        ndf.theta_y = -ndf.theta_y;
-        ndf.theta_z -= std::copysign(pi, ndf.theta_z);
-    }
-    return ndf;
-}
-
 using Optimizer = std::unique_ptr<std::remove_pointer_t<nlopt_opt>, decltype(&nlopt_destroy)>;
 
 }  // namespace
@@ -246,7 +234,7 @@ NdfFit fit_ndf(const LobeImage& ndf, NdfModelKind kind) {
     if (result < 0 && result != NLOPT_ROUNDOFF_LIMITED)
         throw Error("NDF fit: the solver failed (NLopt code " + std::to_string(int(result)) + ")");
     NdfModel model = from_variables(kind, x.data());
-    model.parameters = canonical_angles(model.parameters);
+    model.parameters = canonical_ellipsoid(model.parameters);
     return {model, std::sqrt(std::max(minimum, 0.0)), problem.evaluations};
 }
 

@@ -38,7 +38,31 @@ Mat3 rotation(const EllipsoidNdf& ndf) {
 // S v with S = diag(α_x, α_y, 1) (Dong 2015 eq. 11).
 Vec3 scale(const EllipsoidNdf& ndf, Vec3 v) { return {ndf.alpha_x * v.x, ndf.alpha_y * v.y, v.z}; }
 
+// The angles of R = R_x(θ_x) R_y(θ_y) R_z(θ_z): its first row is (cos θ_y cos θ_z,
+// −cos θ_y sin θ_z, sin θ_y) and its last column (sin θ_y, −sin θ_x cos θ_y, cos θ_x cos θ_y)ᵀ.
+EllipsoidNdf with_rotation(EllipsoidNdf ndf, const Mat3& r) {
+    ndf.theta_y = std::asin(std::clamp(r[0][2], -1.0, 1.0));
+    ndf.theta_z = std::atan2(-r[0][1], r[0][0]);
+    ndf.theta_x = std::atan2(-r[1][2], r[2][2]);
+    return ndf;
+}
+
 }  // namespace
+
+EllipsoidNdf canonical_ellipsoid(EllipsoidNdf ndf) {
+    // D depends on A = S R only through |A|, ‖A n‖ and ‖A⁻ᵀ m‖ (Dong 2015 eq. 10), so Q A gives the
+    // same D for any rotation Q. Q = R_z(q), q = ±π/2, turns S into S' (α_x, α_y swapped):
+    // Q S R = S' (Q R). Choosing q against θ_z brings θ_z within ±π/4, so α_x is the roughness
+    // along x as Beckmann's and GGX's are.
+    ndf.theta_z = std::remainder(ndf.theta_z, 2.0 * pi);
+    for (int turns = 0; turns < 3 && std::abs(ndf.theta_z) > 0.25 * pi; ++turns) {
+        const double q = -std::copysign(0.5 * pi, ndf.theta_z);
+        const Mat3 turn{{{std::cos(q), -std::sin(q), 0}, {std::sin(q), std::cos(q), 0}, {0, 0, 1}}};
+        std::swap(ndf.alpha_x, ndf.alpha_y);
+        ndf = with_rotation(ndf, multiply(turn, rotation(ndf)));
+    }
+    return ndf;
+}
 
 EllipsoidFrame ellipsoid_frame(const EllipsoidNdf& ndf) {
     EllipsoidFrame frame{ndf, rotation(ndf), {}};

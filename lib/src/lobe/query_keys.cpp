@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -197,6 +198,15 @@ const std::vector<KeyBinding>& bindings() {
           ""},
          [](LobeQuery& q, const std::string& t) { q.supersample = t == "auto" ? 0 : parse_int(t); },
          [](const LobeQuery& q) { return q.supersample == 0 ? std::string("auto") : std::to_string(q.supersample); }},
+        {{"memory", "GB",
+          "memory budget of a method's working grids in GB, e.g. the FFT footprint grid of a large sigma_c "
+          "(default 4; over it the FFT lowers its oversampling, then refuses)",
+          ""},
+         [](LobeQuery& q, const std::string& t) { q.memory_budget_gb = parse_number(t); },
+         [](const LobeQuery& q) -> std::optional<std::string> {
+             if (q.memory_budget_gb == 4.0) return std::nullopt;
+             return shortest_text(q.memory_budget_gb);
+         }},
         {{"footprints", "N|grid|grid:N",
           "average over footprints: N seeded random centres, grid (3 x 3) or grid:N (N x N) spread over the field "
           "(large-area NDFs, expected lobes; default 1: the footprint alone)",
@@ -292,6 +302,31 @@ LobeQuery make_query(const QueryText& text) {
     }
     if (!find_value(text, "centre")) query.footprint.centre_um = query.field->centre_um();
     return query;
+}
+
+RecordedRun recorded_run(const std::string& record_path, const QueryText& overrides, bool allow_changed_heightfield) {
+    const Provenance recorded = read_output_metadata(record_path);
+    RecordedRun run;
+    if (recorded.count("method")) run.method = recorded.at("method");
+    QueryText text = query_text_from_metadata(recorded);
+    // A relative heightfield path was written relative to where the record was made; read it
+    // relative to the record, so that a figure's panels re-run from anywhere.
+    for (auto& [key, value] : text)
+        if (key == "heightfield" && !value.starts_with("builtin:") && std::filesystem::path(value).is_relative()) {
+            const std::filesystem::path beside = std::filesystem::path(record_path).parent_path() / value;
+            if (std::filesystem::exists(beside)) value = beside.string();
+        }
+    const bool same_heightfield = std::none_of(overrides.begin(), overrides.end(), [](const auto& entry) {
+        return entry.first == "heightfield";
+    });
+    run.query = make_query(merge_query_text(text, overrides));
+    const auto md5 = recorded.find("heightfield.md5");
+    if (same_heightfield && md5 != recorded.end() && !allow_changed_heightfield &&
+        md5->second != run.query.source.content_md5)
+        throw Error("the heightfield '" + run.query.source.argument + "' has changed since '" + record_path +
+                    "' was written (MD5 " + run.query.source.content_md5 + ", recorded " + md5->second +
+                    "); re-run on it anyway with --allow-changed-heightfield");
+    return run;
 }
 
 QueryText query_text(const LobeQuery& query) {

@@ -8,8 +8,8 @@
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 #include "methods/discrete/discrete_lobe.hpp"
-#include "pipeline/method_table.hpp"
 
 namespace glintscope {
 
@@ -17,10 +17,7 @@ ScalarImage discrete_glint_map(const LobeQuery& lobe_query, Vec3 omega_o, int si
                                const std::function<void(std::size_t done, std::size_t total)>& progress) {
     LobeQuery query = lobe_query;
     query.quantity = Quantity::brdf;
-    validate(query);
-    const MethodInfo info = discrete_method().info;
-    check_footprint(info, query.footprint);
-    check_option_keys(info, query);
+    plan_lobe("discrete", query);  // the checks every request of the method passes
     if (!(size >= 1 && size <= 4096)) throw Error("glint map size must be 1 to 4096 positions, got " + std::to_string(size));
     if (!(step_um > 0.0 && step_um <= 1e5))
         throw Error("glint map spacing must be above 0 and at most 10 cm, got " + shortest_text(step_um) + " um");

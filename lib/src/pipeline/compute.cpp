@@ -8,6 +8,7 @@
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/core/version.hpp"
 #include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/optics/material.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
 #include "pipeline/method_table.hpp"
 
@@ -122,9 +123,59 @@ int supersample_for(const MethodInfo& method, const LobeQuery& query) {
     return std::clamp(static_cast<int>(std::ceil(1.5 * pixel / coherence_blur(query))), 1, 8);
 }
 
-std::string rounded(double value) { return shortest_text(std::round(value * 1e5) / 1e5); }
+constexpr double kEnergyTolerance = 0.02;
 
-}  // namespace
+// Σ v (2/N)² of one layer: the albedo of a BRDF, the normalisation of an NDF.
+double layer_sum(const LobeImage& image, std::size_t layer) {
+    const std::size_t pixels = std::size_t(image.resolution) * image.resolution;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < pixels; ++i) sum += image.values[layer * pixels + i];
+    return sum * disk_pixel_area(image.resolution);
+}
+
+// Σ f_r/F(ω_i·h) (2/N)² of one layer: the albedo the lobe would have with F = 1.
+double reflected_fraction(const LobeQuery& query, const LobeImage& image, std::size_t layer) {
+    if (query.material.name.empty()) return layer_sum(image, layer);
+    const ComplexIndex eta = complex_refractive_index(query.material.name, image.wavelengths_um[layer]);
+    const int n = image.resolution;
+    double sum = 0.0;
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c) {
+            const float value = image.at(layer, r, c);
+            if (value == 0.0f) continue;
+            const DiskPoint p = disk_pixel_point(r, c, n);
+            const Vec3 h = normalize(query.omega_i + direction_from_disk(p.x, p.y));
+            sum += value / fresnel_conductor(eta, dot(query.omega_i, h));
+        }
+    return sum * disk_pixel_area(n);
+}
+
+// Which term of the method creates energy beyond the material's reflectance.
+std::string energy_source(const MethodInfo& method, const LobeQuery& query) {
+    if (!method.wave_optics) {
+        if (method.ignores(QueryField::model) && method.name == "geometric" &&
+            !query.method_options.contains("shadowing"))
+            return "without shadowing and masking (G = 1) facets facing the light reflect more than their projected "
+                   "area (option shadowing=smith)";
+        return "the method's normalisation, not the surface (check its options)";
+    }
+    switch (query.model) {
+        case DiffractionModel::ohs:
+        case DiffractionModel::ghs:
+            return "the model's xi1 = cos(theta_o)/cos(theta_i) grows with the incidence (Yan 2018 Fig. 6); "
+                   "--model kirchhoff keeps energy best";
+        case DiffractionModel::rohs:
+        case DiffractionModel::rghs:
+            return "the model's xi1 = (cos theta_i + cos theta_o)^2/(4 cos theta_i cos theta_o) grows toward grazing "
+                   "theta_o (Yan 2018 Fig. 6); --model kirchhoff keeps energy best";
+        case DiffractionModel::kirchhoff:
+            return "Kirchhoff's tangent-plane approximation ignores shadowing and masking, which matter at this "
+                   "incidence or roughness";
+    }
+    return "";
+}
+
+std::string rounded(double value) { return shortest_text(std::round(value * 1e5) / 1e5); }
 
 void check_footprint(const MethodInfo& method, const Footprint& footprint) {
     if (footprint.shape != FootprintShape::whole || method.whole_field) return;
@@ -144,6 +195,8 @@ void check_option_keys(const MethodInfo& method, const LobeQuery& query) {
                     (keys.empty() ? "none" : join(keys)) + ")");
     }
 }
+
+}  // namespace
 
 std::vector<MethodInfo> lobe_methods() {
     std::vector<MethodInfo> infos;
@@ -207,8 +260,11 @@ LobeRun run_lobe(const std::string& method, const LobeQuery& query, const RunPro
     run.image.metadata["run.seconds"] = shortest_text(
         std::round(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() * 1e3) / 1e3);
     run.notes = plan.notes;
+    // What a method chose on its own and wants said (e.g. the FFT's grid within the memory budget).
+    for (const auto& [key, value] : run.image.metadata)
+        if (key.starts_with("note.")) run.notes.push_back(value);
     run.warnings = query_warnings(method, plan.query);
-    for (std::string& warning : image_warnings(run.image)) run.warnings.push_back(std::move(warning));
+    for (std::string& warning : image_warnings(method, plan.query, run.image)) run.warnings.push_back(std::move(warning));
     return run;
 }
 
@@ -232,22 +288,27 @@ std::vector<std::string> query_warnings(const std::string& method, const LobeQue
     return warnings;
 }
 
-std::vector<std::string> image_warnings(const LobeImage& image) {
+std::vector<std::string> image_warnings(const std::string& method, const LobeQuery& query, const LobeImage& image) {
     std::vector<std::string> warnings;
-    const double pixel_area = disk_pixel_area(image.resolution);
-    const std::size_t pixels = std::size_t(image.resolution) * image.resolution;
     for (std::size_t layer = 0; layer < image.layers(); ++layer) {
-        double sum = 0.0;
-        for (std::size_t i = 0; i < pixels; ++i) sum += image.values[layer * pixels + i];
-        sum *= pixel_area;
-        const std::string at = "at " + shortest_text(image.wavelengths_um[layer]) + " um";
-        if (image.quantity == Quantity::brdf && sum > 1.02) {
-            warnings.push_back("albedo " + shortest_text(std::round(sum * 1e4) / 1e4) + " " + at +
-                               " exceeds 1 by more than 2%: the model creates energy here (e.g. R-OHS's 1/cos "
-                               "theta_o near grazing)");
-            break;
+        const double sum = layer_sum(image, layer);
+        const double lambda = image.wavelengths_um[layer];
+        const std::string at = "at " + shortest_text(lambda) + " um";
+        if (image.quantity == Quantity::brdf) {
+            // The albedo with the material's Fresnel factor F(ω_i·h) taken out of every pixel (the
+            // methods apply it so): above 1, the method or model creates energy.
+            const double unit = reflected_fraction(query, image, layer);
+            if (unit > 1.0 + kEnergyTolerance) {
+                warnings.push_back("albedo " + shortest_text(std::round(sum * 1e4) / 1e4) + " " + at +
+                                   (query.material.name.empty()
+                                        ? std::string(" exceeds 1")
+                                        : " is " + shortest_text(std::round(unit * 1e4) / 1e4) + " of what " +
+                                              query.material.name + "'s Fresnel reflectance lets through") +
+                                   ", more than 2% over: " + energy_source(lobe_method(method), query));
+                break;
+            }
         }
-        if (image.quantity == Quantity::ndf && std::fabs(sum - 1.0) > 0.02) {
+        if (image.quantity == Quantity::ndf && std::fabs(sum - 1.0) > kEnergyTolerance) {
             warnings.push_back("the NDF integrates to " + shortest_text(std::round(sum * 1e4) / 1e4) +
                                " on the disk, not 1 (mass beyond the disk or the footprint, or peaks narrower "
                                "than a pixel that its centres miss: try --supersample)");

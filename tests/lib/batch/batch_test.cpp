@@ -13,6 +13,8 @@
 #include "glintscope/batch/batch.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/io/heightfield_io.hpp"
+#include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 
 namespace glintscope {
 namespace {
@@ -166,6 +168,22 @@ TEST(Batch, InsetsAddAHeightfieldColumnWithTheFootprintDrawn) {
 
 // The label text is drawn: the figure with labels differs from the one without exactly where the
 // label's rendered text lies (its width as OpenImageIO measures the text alone).
+// The paper-figure manifests the scripts run: each loads, and each panel's query plans (method,
+// query, footprint, options) as a run would, so that a stale key fails here and not mid-figure.
+TEST(Batch, EveryManifestUnderFiguresLoadsAndPlans) {
+    int manifests = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(GLINTSCOPE_SOURCE_DIR) + "/figures")) {
+        if (entry.path().extension() != ".toml") continue;
+        ++manifests;
+        const Manifest manifest = load_manifest(entry.path().string());
+        EXPECT_FALSE(manifest.panels.empty()) << entry.path();
+        for (const ManifestPanel& panel : manifest.panels)
+            EXPECT_NO_THROW(plan_lobe(panel.method, make_query(panel.query)))
+                << entry.path() << ": " << manifest.row_labels[panel.row] << " / " << manifest.column_labels[panel.column];
+    }
+    EXPECT_GE(manifests, 4);
+}
+
 TEST(Figure, LabelsAreDrawnWhereAndAsWideAsTheTextAlone) {
     TemporaryDirectory directory;
     LobeImage lobe = make_lobe_image(32, {0.5});

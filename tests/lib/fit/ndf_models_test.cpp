@@ -60,6 +60,22 @@ TEST(EllipsoidNdf, SameDistributionUnderAHalfTurnOfTheFrame) {
         }
 }
 
+// A quarter turn of the frame with α_x and α_y swapped is the same distribution: the canonical
+// form (|θ_z| ≤ π/4) gives the same D at every normal, from θ_z in every quadrant.
+TEST(EllipsoidNdf, CanonicalFormIsTheSameDistributionWithThetaZWithinAQuarter) {
+    for (const double theta_z : {-3.0, -2.0, -1.0, 0.5, 0.9, 1.6, 2.5, 3.1}) {
+        const EllipsoidNdf original{0.3, 0.08, 0.15, -0.1, theta_z};
+        const EllipsoidNdf canonical = canonical_ellipsoid(original);
+        EXPECT_LE(std::abs(canonical.theta_z), 0.25 * pi + 1e-12) << theta_z;
+        for (int k = 0; k < 200; ++k) {
+            const double phi = 0.731 * k, radius = std::sqrt((k + 0.5) / 200.0) * 0.95;
+            const Vec3 m = direction_from_disk(radius * std::cos(phi), radius * std::sin(phi));
+            const double d = ellipsoid_ndf(original, m);
+            EXPECT_NEAR(ellipsoid_ndf(canonical, m), d, 1e-10 * (1.0 + d)) << theta_z << " at " << k;
+        }
+    }
+}
+
 TEST(EllipsoidShadowing, IsAtMostOneAndOneAtNormalIncidence) {
     double smallest = 1.0;
     for (int i = 0; i <= 40; ++i)

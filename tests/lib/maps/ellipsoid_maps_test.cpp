@@ -48,7 +48,8 @@ TEST(EllipsoidMaps, EveryPatchOfABrushedFieldIsAnisotropic) {
     ASSERT_EQ(maps.rows, 2);
     ASSERT_EQ(maps.cols, 2);
     // Brushing is local: each 128 µm patch shows the field's strong anisotropy.
-    for (const EllipsoidNdf& p : maps.parameters) EXPECT_GT(p.alpha_x / p.alpha_y, 2.0);
+    // Roughness across the grooves, along y, in the canonical frame (|theta_z| <= pi/4).
+    for (const EllipsoidNdf& p : maps.parameters) EXPECT_GT(p.alpha_y / p.alpha_x, 2.0);
 }
 
 }  // namespace

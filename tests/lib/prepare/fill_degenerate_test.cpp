@@ -22,7 +22,9 @@ TEST(FillDegenerate, OneValidPointFillsTheFieldWithItsHeightAtOnce) {
             const auto start = std::chrono::steady_clock::now();
             const FillReport report = fill_missing(field, method, tiling);
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            EXPECT_LT(seconds, 0.5);  // the CG route took minutes on such a field
+            // A generous bound a loaded CI cannot trip: the conjugate-gradient route took minutes here
+            // (the speed itself is bench/prepare_bench.cpp's FillOneValidPoint).
+            EXPECT_LT(seconds, 20.0);
             EXPECT_EQ(report.filled_points, field.size() - 1);
             for (float h : field.heights_um) ASSERT_EQ(h, 0.375f);
         }

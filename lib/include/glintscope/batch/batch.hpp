@@ -47,8 +47,16 @@ struct BatchOptions {
     int jobs = 1;                 // panels computed at once
 };
 
+// What the pipeline said about one computed panel ("row / column"), in panel order.
+struct PanelReport {
+    std::string panel;
+    std::vector<std::string> notes;
+    std::vector<std::string> warnings;
+};
+
 struct BatchResult {
     std::size_t computed = 0;
+    std::vector<PanelReport> panels;  // computed panels with notes or warnings
     std::size_t up_to_date = 0;
     bool assembled = false;       // the figure was written (a full run, not a shard)
     std::string figure_path;

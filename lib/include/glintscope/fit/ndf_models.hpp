@@ -18,6 +18,10 @@ struct EllipsoidNdf {
     double theta_z = 0.0;
 };
 
+// The same D with |θ_z| ≤ π/4: α_x and α_y then name the roughness along x and y as Beckmann's
+// and GGX's do (a brushed surface's larger α along the same axis in every model).
+EllipsoidNdf canonical_ellipsoid(EllipsoidNdf ndf);
+
 // D(m) of Dong 2015 eq. 10; m a unit vector, 0 for m_z ≤ 0.
 double ellipsoid_ndf(const EllipsoidNdf& ndf, Vec3 m);
 

@@ -45,6 +45,7 @@ struct LobeQuery {
     MaterialChoice material;
     int resolution = 256;                 // N of the N×N projected-disk image
     int supersample = 0;                  // K×K sub-pixel average (geometry.hpp); 0: the pipeline chooses
+    double memory_budget_gb = 4.0;        // for a method's working grids (the FFT's footprint grid)
     // Method-specific settings by name (e.g. "kernels_per_texel" for gabor, "step" for fft);
     // compute_lobe rejects keys the method does not declare.
     std::map<std::string, std::string> method_options;

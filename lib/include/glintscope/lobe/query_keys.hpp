@@ -53,6 +53,16 @@ QueryText query_text_from_metadata(const Provenance& metadata);
 // "metadata" object of a JSON sidecar.
 Provenance read_output_metadata(const std::string& path);
 
+// A query recorded in an output the tool wrote (EXR, PNG or JSON), with `overrides` applied, and
+// the method recorded there (empty if none). A relative heightfield path is read relative to the
+// record when it exists there. Throws Error when the heightfield's bytes differ from the recorded
+// MD5 (unless `allow_changed_heightfield` or an override names another heightfield).
+struct RecordedRun {
+    std::string method;
+    LobeQuery query;
+};
+RecordedRun recorded_run(const std::string& record_path, const QueryText& overrides, bool allow_changed_heightfield);
+
 // A heightfield argument: a file read with `load`, or builtin:KIND (generate.hpp).
 Heightfield load_heightfield_source(const HeightfieldSource& source);
 

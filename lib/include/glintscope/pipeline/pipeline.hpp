@@ -63,8 +63,10 @@ int recommended_supersample(const std::string& method, const LobeQuery& query);
 // the models' validity (shadowing is ignored).
 std::vector<std::string> query_warnings(const std::string& method, const LobeQuery& query);
 
-// Warnings about a computed image: a BRDF albedo above 1 beyond 2% (energy the model creates,
-// e.g. R-OHS's 1/cosθ_o near grazing), an NDF whose disk sum is off 1 by more than 2%.
-std::vector<std::string> image_warnings(const LobeImage& image);
+// Warnings about a computed image: a BRDF albedo above the material's Fresnel reflectance
+// F(θ_i) (1 without a material) by more than 2%, naming the term of the method or model that
+// creates the energy (e.g. R-OHS's ξ1 toward grazing, Yan 2018 Fig. 6; G = 1 of an unshadowed
+// geometric lobe); an NDF whose disk sum is off 1 by more than 2%.
+std::vector<std::string> image_warnings(const std::string& method, const LobeQuery& query, const LobeImage& image);
 
 }  // namespace glintscope

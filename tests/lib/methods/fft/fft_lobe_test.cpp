@@ -15,6 +15,7 @@
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/optics/material.hpp"
 #include "glintscope/core/parallel.hpp"
+#include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {
@@ -352,6 +353,37 @@ TEST(FftLobe, RejectsBadOptions) {
     EXPECT_THROW(compute_lobe("fft", query), Error);
     query.method_options = {{"step", "1nm"}};  // 16001² samples over the footprint: refused, not attempted
     EXPECT_THROW(compute_lobe("fft", query), Error);
+}
+
+// Over the memory budget the FFT gives up its oversampling beyond the alias-free bound first, and
+// says so: the lobe stays within 1% of the unconstrained one. Below even that, it refuses in one
+// line naming --memory.
+TEST(FftLobe, AMemoryBudgetLowersTheOversamplingThenRefuses) {
+    LobeQuery query;
+    set_heightfield(query, generate_builtin("isotropic"));
+    query.footprint.centre_um = query.field->centre_um();
+    query.resolution = 48;
+    const LobeRun unconstrained = run_lobe("fft", query);
+    EXPECT_EQ(unconstrained.image.metadata.at("fft.oversampling"), "3");
+    query.memory_budget_gb = 0.01;  // 250 000 samples: below the 619 x 625 grid at oversampling 3
+    const LobeRun budgeted = run_lobe("fft", query);
+    EXPECT_LT(parse_number(budgeted.image.metadata.at("fft.oversampling")), 3.0);
+    EXPECT_GE(parse_number(budgeted.image.metadata.at("fft.oversampling")), 1.0);
+    const auto said = [](const LobeRun& run) {
+        for (const std::string& note : run.notes)
+            if (note.find("memory budget") != std::string::npos) return true;
+        return false;
+    };
+    EXPECT_TRUE(said(budgeted));
+    EXPECT_FALSE(said(unconstrained));
+    EXPECT_LT(compare_lobes(budgeted.image, unconstrained.image).at(0).relative_l2, 0.01);
+    query.footprint.sigma_um = 20.0;  // 709 x 761 samples even at the alias-free bound
+    try {
+        compute_lobe("fft", query);
+        ADD_FAILURE() << "a grid over the budget was computed";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("--memory"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

@@ -52,18 +52,29 @@ double albedo(const LobeImage& image, std::size_t layer = 0) {
     return sum * disk_pixel_area(image.resolution);
 }
 
-TEST(GeometricLobe, FlatMirrorReflectsTheFresnelFraction) {
-    LobeQuery query = query_for(plane(0.0, 0.0), 128);
-    query.omega_i = direction_from_spherical(0.5, 0.3);
-    query.material.name = "Au";
-    query.wavelengths_um = {0.45, 0.65};
-    query.supersample = 8;
-    const LobeImage image = compute_lobe("geometric", query);
-    for (std::size_t l = 0; l < 2; ++l) {
-        const double fresnel = fresnel_reflectance("Au", query.wavelengths_um[l], query.omega_i.z);
-        RecordProperty("albedo_over_fresnel_" + std::to_string(l), std::to_string(albedo(image, l) / fresnel));
-        EXPECT_NEAR(albedo(image, l) / fresnel, 1.0, 0.01) << "layer " << l;
-    }
+// A plane's NDF is one normal m: by Dong 2015 eq. 1 with G = 1 its albedo is
+// F(ω_i·m)·(ω_i·m)/(cosθ_i m_z) (F at normal incidence, for any flat mirror), however narrow the
+// lobe is against a pixel: the pixels integrate the lobe exactly, at default settings.
+TEST(GeometricLobe, FlatAndTiltedPlanesReflectTheirClosedFormAlbedoAtEveryResolution) {
+    for (const auto& [a, b] : {std::pair{0.0, 0.0}, std::pair{0.2, 0.1}})
+        for (const int resolution : {64, 128, 256, 512})
+            for (const double theta_deg : {0.0, 20.0, 45.0, 70.0, 80.0}) {
+                LobeQuery query = query_for(plane(a, b), resolution);
+                query.footprint.sigma_um = 4.0;  // inside the tile, away from the plane's wrap-around step
+                query.omega_i = direction_from_spherical(theta_deg * pi / 180.0, 0.3);
+                query.material.name = "Au";
+                query.wavelengths_um = {0.45, 0.65};
+                const Vec3 m = normalize({-a, -b, 1.0});
+                const double cos_im = dot(query.omega_i, m);
+                if (2.0 * cos_im * m.z - query.omega_i.z <= 0.0) continue;  // reflected below the horizon
+                const LobeImage image = compute_lobe("geometric", query);
+                for (std::size_t l = 0; l < 2; ++l) {
+                    const double expected = fresnel_reflectance("Au", query.wavelengths_um[l], cos_im) * cos_im /
+                                            (query.omega_i.z * m.z);
+                    EXPECT_NEAR(albedo(image, l) / expected, 1.0, 0.01)
+                        << "slope " << a << "," << b << ", res " << resolution << ", theta " << theta_deg << ", layer " << l;
+                }
+            }
 }
 
 TEST(GeometricLobe, TiltedPlanePeaksAtTheMirrorDirectionOfItsNormal) {
@@ -90,7 +101,9 @@ TEST(GeometricLobe, IsReciprocalWithoutShadowing) {
     query.omega_i = b;
     const float backward = compute_lobe("geometric", query).at(0, 20, 40);
     EXPECT_GT(forward, 0.0f);
-    EXPECT_NEAR(forward / backward, 1.0, 1e-6);
+    // Pixels hold f_r integrated over the pixel (exactly, for the tabulated NDF), and f_r(a, ·) over
+    // b's pixel is not f_r(b, ·) over a's: reciprocal to the lobe's variation across a pixel (0.19%).
+    EXPECT_NEAR(forward / backward, 1.0, 5e-3);
 }
 
 TEST(GeometricLobe, SmoothRoughSurfaceReflectsAlmostAllLightAtNormalIncidence) {
