@@ -3,6 +3,8 @@
 #include <memory>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "commands.hpp"
 #include "glintscope/io/heightfield_io.hpp"
 #include "glintscope/surface/statistics.hpp"
@@ -20,42 +22,33 @@ struct InfoSettings {
 };
 
 void print_json(const std::string& input, const Heightfield& field, const SurfaceStatistics& s) {
-    std::string out = "{\n";
-    auto member = [&out](const std::string& name, const std::string& value, bool last = false) {
-        out += "  " + json_string(name) + ": " + value + (last ? "\n" : ",\n");
-    };
-    member("file", json_string(input));
-    member("cols", std::to_string(field.cols));
-    member("rows", std::to_string(field.rows));
-    member("texel_um", json_number(field.texel_um));
-    member("width_um", json_number(field.width_um()));
-    member("height_um", json_number(field.height_um()));
-    member("height_unit", json_string("um"));
-    member("units_assumed", field.units_assumed ? "true" : "false");
-    member("periodic", field.periodic ? "true" : "false");
-    std::string statistics = "{";
-    auto statistic = [&statistics](const std::string& name, double value) {
-        statistics += (statistics.size() > 1 ? ", " : "") + json_string(name) + ": " + json_number(value);
-    };
-    statistic("mean_um", s.mean_um);
-    statistic("sq_um", s.sq_um);
-    statistic("sa_um", s.sa_um);
-    statistic("min_um", s.min_um);
-    statistic("max_um", s.max_um);
-    statistic("rms_slope_x", s.rms_slope_x);
-    statistic("rms_slope_y", s.rms_slope_y);
-    statistic("correlation_length_x_um", s.correlation_length_x_um);
-    statistic("correlation_length_y_um", s.correlation_length_y_um);
-    statistic("correlation_threshold", s.correlation_threshold);
-    member("statistics", statistics + "}");
-    member("missing_count", std::to_string(s.missing_count));
-    member("missing_fraction", json_number(s.missing_fraction));
-    std::string provenance = "{";
-    for (const auto& [key, value] : field.provenance)
-        provenance += (provenance.size() > 1 ? ", " : "") + json_string(key) + ": " + json_string(value);
-    member("provenance", provenance + "}", true);
-    out += "}\n";
-    std::fputs(out.c_str(), stdout);
+    const nlohmann::ordered_json statistics = {{"mean_um", s.mean_um},
+                                               {"sq_um", s.sq_um},
+                                               {"sa_um", s.sa_um},
+                                               {"min_um", s.min_um},
+                                               {"max_um", s.max_um},
+                                               {"rms_slope_x", s.rms_slope_x},
+                                               {"rms_slope_y", s.rms_slope_y},
+                                               {"correlation_length_x_um", s.correlation_length_x_um},
+                                               {"correlation_length_y_um", s.correlation_length_y_um},
+                                               {"correlation_threshold", s.correlation_threshold}};
+    nlohmann::ordered_json provenance = nlohmann::ordered_json::object();
+    for (const auto& [key, value] : field.provenance) provenance[key] = value;
+    const nlohmann::ordered_json json = {{"file", input},
+                                         {"cols", field.cols},
+                                         {"rows", field.rows},
+                                         {"texel_um", field.texel_um},
+                                         {"width_um", field.width_um()},
+                                         {"height_um", field.height_um()},
+                                         {"height_unit", "um"},
+                                         {"units_assumed", field.units_assumed},
+                                         {"periodic", field.periodic},
+                                         {"statistics", statistics},
+                                         {"missing_count", s.missing_count},
+                                         {"missing_fraction", s.missing_fraction},
+                                         {"provenance", provenance}};
+    // Invalid UTF-8 (a file name or a header string) is replaced rather than refused.
+    std::fputs((json.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n").c_str(), stdout);
 }
 
 void print_line(const char* name, const std::string& value) { std::printf("%-22s %s\n", name, value.c_str()); }

@@ -96,6 +96,7 @@ int main(int argc, char** argv) {
     glintscope::cli::add_batch_command(app);
     glintscope::cli::add_fit_command(app);
     glintscope::cli::add_glints_command(app);
+    glintscope::cli::add_compare_command(app);
 
     if (const std::string problem = unknown_command(app, argc, argv); !problem.empty()) {
         std::fprintf(stderr, "glintscope: error: %s\n", problem.c_str());
@@ -105,6 +106,9 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e) == 0 ? 0 : 2;
+    } catch (const glintscope::cli::ExitStatus& e) {
+        std::fprintf(stderr, "glintscope: error: %s\n", e.what());
+        return e.status;
     } catch (const glintscope::Error& e) {
         std::fprintf(stderr, "glintscope: error: %s\n", e.what());
         return 1;

@@ -29,6 +29,7 @@ struct ValidateSettings {
     std::string reference_method = "fft";
     std::string report;
     std::string csv;
+    std::string summary_csv;
     std::string images;
     std::string convergence;
     double fail_above = -1.0;
@@ -66,31 +67,34 @@ void print_table(const ValidationPlan& plan, const std::vector<ValidationRow>& r
     }
 }
 
-// test | reference | test − reference, the first two exposed alike, the difference on its own
-// symmetric scale (one wavelength; for a spectrum the difference is left out).
+// The verdict: mean and worst over the footprints per model, K and wavelength.
+void print_summary(const std::vector<ValidationSummary>& summary) {
+    std::printf("\nsummary over footprints\n%-9s %2s %9s %4s %9s %9s %9s %9s %8s\n", "model", "K", "lambda", "n",
+                "mean L2", "worst L2", "mean peak", "worst pk", "energy");
+    for (const ValidationSummary& s : summary)
+        std::printf("%-9s %2s %9.4g %4zu %8.3f%% %8.3f%% %8.3f%% %8.3f%% %8.4f\n", to_string(s.model).c_str(),
+                    s.kernels_per_texel ? std::to_string(s.kernels_per_texel).c_str() : "-", s.wavelength_um,
+                    s.footprints, 100.0 * s.mean_relative_l2, 100.0 * s.worst_relative_l2, 100.0 * s.mean_peak_error,
+                    100.0 * s.worst_peak_error, s.mean_energy_ratio);
+}
+
+// test | reference | test − reference (figure.hpp: write_difference_figure).
 void write_pair(const std::string& directory, std::size_t index, const ValidationPlan& plan, const ValidationRow& row,
                 const LobeImage& test, const LobeImage& reference) {
-    const LobeImage difference = difference_image(test, reference);
-    Figure figure;
     char title[160];
     std::snprintf(title, sizeof title, "%s against %s: centre %.1f,%.1f um, %s%s, relative L2 %.2f%%",
                   plan.test_method.c_str(), plan.reference_method.c_str(), row.centre_um.x, row.centre_um.y,
                   to_string(row.model).c_str(), row.kernels_per_texel ? (", K = " + std::to_string(row.kernels_per_texel)).c_str() : "",
                   100.0 * row.comparison.relative_l2);
-    figure.title = title;
-    figure.column_labels = {plan.test_method, plan.reference_method};
-    figure.cells = {{&test, &reference}};
-    if (test.layers() == 1) {
-        figure.column_labels.push_back("difference");
-        figure.cells[0].push_back(&difference);
-    }
-    const LobeOutputOptions output;
-    write_figure(figure, directory + "/pair-" + std::to_string(index) + ".png", output);
+    const LobeOutputOptions options;
+    write_difference_figure(test, reference, {title, "", plan.test_method, plan.reference_method, "difference"},
+                            directory + "/pair-" + std::to_string(index) + ".png", options);
 }
 
 void run(const ValidateSettings& settings) {
     if (!settings.report.empty()) check_output_path(settings.report, {"json"}, "--report");
     if (!settings.csv.empty()) check_output_path(settings.csv, {"csv"}, "--csv");
+    if (!settings.summary_csv.empty()) check_output_path(settings.summary_csv, {"csv"}, "--summary-csv");
     if (!settings.images.empty()) {
         std::error_code error;
         std::filesystem::create_directories(settings.images, error);
@@ -124,14 +128,25 @@ void run(const ValidateSettings& settings) {
             });
     }
     print_table(plan, rows);
-    if (!settings.report.empty()) write_text_file(settings.report, validation_json(plan, rows));
+    const std::vector<ValidationSummary> summary = summarize_validation(rows);
+    print_summary(summary);
+    // Each row names its pair's picture (a pair holds one row per wavelength).
+    std::vector<std::string> pictures;
+    if (!settings.images.empty())
+        for (std::size_t k = 0; k < rows.size(); ++k)
+            pictures.push_back("pair-" + std::to_string(k / plan.base.wavelengths_um.size() + 1) + ".png");
+    if (!settings.report.empty())
+        write_text_file(settings.report, validation_json(plan, rows, invocation(), pictures));
     if (!settings.csv.empty()) write_text_file(settings.csv, validation_csv(rows));
+    if (!settings.summary_csv.empty()) write_text_file(settings.summary_csv, validation_summary_csv(summary));
     if (settings.fail_above >= 0.0)
-        for (const ValidationRow& row : rows)
-            if (row.comparison.relative_l2 > settings.fail_above)
-                throw Error("relative L2 " + shortest_text(row.comparison.relative_l2) + " exceeds --fail-above " +
-                            shortest_text(settings.fail_above) + " (" + to_string(row.model) + ", lambda " +
-                            shortest_text(row.comparison.wavelength_um) + " um)");
+        for (const ValidationSummary& s : summary)
+            if (s.worst_relative_l2 > settings.fail_above)
+                throw Error("worst relative L2 " + shortest_text(s.worst_relative_l2) + " exceeds --fail-above " +
+                            shortest_text(settings.fail_above) + " (" + to_string(s.model) +
+                            (s.kernels_per_texel ? ", K = " + std::to_string(s.kernels_per_texel) : "") + ", lambda " +
+                            shortest_text(s.wavelength_um) + " um, over " + std::to_string(s.footprints) + " footprint" +
+                            (s.footprints == 1 ? "" : "s") + ")");
 }
 
 }  // namespace
@@ -140,6 +155,9 @@ void add_validate_command(CLI::App& app) {
     auto settings = std::make_shared<ValidateSettings>();
     CLI::App* command = app.add_subcommand(
         "validate", "Compare a method (default gabor) with a reference (default fft) on the same queries");
+    std::string columns = "Columns:";
+    for (const std::string& line : validation_column_definitions()) columns += "\n  " + line;
+    command->footer(columns + "\n--fail-above judges the summary's worst relative L2.");
     command->add_option("heightfield", settings->heightfield, "Heightfield file, or builtin:KIND")->required();
     add_query_flags(*command, settings->given, Quantity::brdf, {"quantity", "model", "footprints"});
     command->add_option_function<std::string>(
@@ -155,6 +173,8 @@ void add_validate_command(CLI::App& app) {
     command->add_option("--reference-method", settings->reference_method, "Reference method")->capture_default_str();
     command->add_option("--report", settings->report, "Full report as JSON");
     command->add_option("--csv", settings->csv, "The rows as CSV");
+    command->add_option("--summary-csv", settings->summary_csv,
+                        "The summary (mean and worst per model, K and wavelength) as CSV");
     command->add_option("--images", settings->images,
                         "Write DIR/pair-N.png per compared pair: test, reference and their signed difference");
     command->add_option("--convergence", settings->convergence,

@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 glintscope=${GLINTSCOPE_BUILD_DIR:-build}/app/glintscope
 out=docs/validation
 mkdir -p "$out"
-common=(--res 128 --supersample 2 --incident 20,0 --sigma-c 10um --footprints grid:4
+common=(--res 128 --supersample 2 --incident 20,0 --sigma-c 10um --footprints grid:2
         --models ohs,ghs,rohs,rghs,kirchhoff --quiet)
 single=(--lambda 0.5um --kernels-per-texel 1,2,4)
 spectral=(--spectral 4 --kernels-per-texel 1,2,4)

@@ -1,19 +1,12 @@
 #pragma once
-// Sums over a projected-disk image that several method tests assert on.
+// Sums over a projected-disk image that several method tests assert on (Σ value (2/N)² itself
+// is the library's disk_sum, image.hpp).
 #include <cstddef>
 
 #include "glintscope/core/geometry.hpp"
 #include "glintscope/lobe/image.hpp"
 
 namespace glintscope::testing {
-
-// Σ value·(2/N)² over one layer: the albedo of a BRDF, the normalisation of an NDF.
-inline double disk_sum(const LobeImage& image, std::size_t layer = 0) {
-    double sum = 0.0;
-    for (int r = 0; r < image.resolution; ++r)
-        for (int c = 0; c < image.resolution; ++c) sum += image.at(layer, r, c);
-    return sum * disk_pixel_area(image.resolution);
-}
 
 // Σ D |h_xy|² (2/N)²: an NDF's second moment on the disk (its squared rms width).
 inline double second_moment(const LobeImage& image) {

@@ -3,7 +3,6 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 
 #include "glintscope/core/error.hpp"
 
@@ -82,29 +81,5 @@ std::vector<double> parse_number_list(std::string_view text) {
     for (const std::string& part : split(text, ',')) values.push_back(parse_number(part));
     return values;
 }
-
-std::string json_string(const std::string& text) {
-    std::string quoted = "\"";
-    for (const char ch : text) {
-        switch (ch) {
-            case '"': quoted += "\\\""; break;
-            case '\\': quoted += "\\\\"; break;
-            case '\n': quoted += "\\n"; break;
-            case '\r': quoted += "\\r"; break;
-            case '\t': quoted += "\\t"; break;
-            default:
-                if (static_cast<unsigned char>(ch) < 0x20) {
-                    char escape[8];
-                    std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(ch)));
-                    quoted += escape;
-                } else {
-                    quoted += ch;
-                }
-        }
-    }
-    return quoted + "\"";
-}
-
-std::string json_number(double value) { return std::isfinite(value) ? shortest_text(value) : "null"; }
 
 }  // namespace glintscope

@@ -61,12 +61,6 @@ std::string zip_error_text(int code) {
     return text;
 }
 
-std::string_view trim(std::string_view text) {
-    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front()))) text.remove_prefix(1);
-    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.remove_suffix(1);
-    return text;
-}
-
 // A decimal number of metres as µm, by shifting its decimal exponent instead of multiplying by
 // 1e6: "6.45e-07" parses exactly as "6.45e-01" would, so spacings written by
 // metres_text() come back as the identical double.
@@ -101,24 +95,6 @@ std::string metres_text(double um) {
     int exponent = 0;
     std::from_chars(text.data() + e + 1 + (text[e + 1] == '+'), text.data() + text.size(), exponent);
     return std::string(text.substr(0, e)) + "e" + std::to_string(exponent - 6);
-}
-
-std::optional<long long> parse_integer(std::string_view text) {
-    text = trim(text);
-    long long value = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size() || text.empty()) return std::nullopt;
-    return value;
-}
-
-std::optional<double> parse_number(std::string_view text) {
-    text = trim(text);
-    if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-    double value = 0.0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size() || text.empty() || !std::isfinite(value))
-        return std::nullopt;
-    return value;
 }
 
 // Provenance travels in Record2's Comment as one "key<TAB>value" line per entry after a
@@ -313,6 +289,24 @@ public:
         return read_error(path_, "main.xml has an invalid " + where + " '" + std::string(trim(text)) + "'");
     }
 
+    // The text of `where` as a finite number (text_format.hpp), or the invalid() error.
+    double number(const std::string& where, std::string_view text) const {
+        try {
+            return parse_number(text);
+        } catch (const Error&) {
+            throw invalid(where, text);
+        }
+    }
+
+    // The text of `where` as a whole number from 0 up, or the invalid() error.
+    long long count(const std::string& where, std::string_view text) const {
+        try {
+            return parse_integer(text, 0, std::numeric_limits<long long>::max());
+        } catch (const Error&) {
+            throw invalid(where, text);
+        }
+    }
+
 private:
     std::string path_;
     pugi::xml_document document_;
@@ -377,24 +371,18 @@ X3pLayout parse_layout(const X3pDocument& doc, const std::string& path) {
     else
         throw doc.invalid("Record1/Axes/CZ/DataType", data_type);
     if (const pugi::xml_node increment = child(cz, "Increment")) {
-        const auto value = parse_number(increment.child_value());
-        if (!value || *value == 0.0) throw doc.invalid("Record1/Axes/CZ/Increment", increment.child_value());
-        layout.z_increment_m = *value;
+        layout.z_increment_m = doc.number("Record1/Axes/CZ/Increment", increment.child_value());
+        if (layout.z_increment_m == 0.0) throw doc.invalid("Record1/Axes/CZ/Increment", increment.child_value());
     }
-    if (const pugi::xml_node offset = child(cz, "Offset")) {
-        const auto value = parse_number(offset.child_value());
-        if (!value) throw doc.invalid("Record1/Axes/CZ/Offset", offset.child_value());
-        layout.z_offset_m = *value;
-    }
+    if (const pugi::xml_node offset = child(cz, "Offset"))
+        layout.z_offset_m = doc.number("Record1/Axes/CZ/Offset", offset.child_value());
 
     const pugi::xml_node record3 = doc.require(doc.root(), "Record3", "ISO5436_2");
     const pugi::xml_node matrix = child(record3, "MatrixDimension");
     if (!matrix) throw read_error(path, "X3P point lists (no Record3/MatrixDimension) are not supported");
     auto size = [&](std::string_view name) {
-        const std::string_view text = doc.require_text(matrix, name, "Record3/MatrixDimension");
-        const auto value = parse_integer(text);
-        if (!value || *value < 0) throw doc.invalid("Record3/MatrixDimension/" + std::string(name), text);
-        return *value;
+        return doc.count("Record3/MatrixDimension/" + std::string(name),
+                         doc.require_text(matrix, name, "Record3/MatrixDimension"));
     };
     layout.size_x = size("SizeX");
     layout.size_y = size("SizeY");

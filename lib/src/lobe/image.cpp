@@ -24,6 +24,21 @@ const QuantityLabels& labels(Quantity quantity) {
     return quantity == Quantity::brdf ? brdf : ndf;
 }
 
+std::span<const float> layer_values(const LobeImage& image, std::size_t layer) {
+    const std::size_t pixels = std::size_t(image.resolution) * image.resolution;
+    return std::span<const float>(image.values).subspan(layer * pixels, pixels);
+}
+
+double disk_sum(std::span<const float> layer, int resolution) {
+    double sum = 0.0;
+    for (int row = 0; row < resolution; ++row)
+        for (int col = 0; col < resolution; ++col)
+            if (inside_unit_disk(disk_pixel_point(row, col, resolution))) sum += layer[std::size_t(row) * resolution + col];
+    return sum * disk_pixel_area(resolution);  // conventions.md: (2/N)² is a pixel's area on the projected disk
+}
+
+double disk_sum(const LobeImage& image, std::size_t layer) { return disk_sum(layer_values(image, layer), image.resolution); }
+
 LobeImage make_lobe_image(int resolution, const std::vector<double>& wavelengths_um, Quantity quantity) {
     LobeImage image;
     image.resolution = resolution;

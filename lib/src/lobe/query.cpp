@@ -41,8 +41,8 @@ void validate(const LobeQuery& query) {
     // An unknown material, or a wavelength outside its table, fails here rather than mid-lobe.
     if (!query.material.name.empty())
         for (double lambda : query.wavelengths_um) complex_refractive_index(query.material.name, lambda);
-    if (query.supersample < 0 || query.supersample > 16)
-        throw Error("supersampling must be between 1 and 16 (or auto), got " + std::to_string(query.supersample));
+    if (query.supersample < kExactPixels || query.supersample > 16)
+        throw Error("supersampling must be between 1 and 16 (or auto, exact), got " + std::to_string(query.supersample));
     if (!(query.memory_budget_gb >= 0.01 && query.memory_budget_gb <= 1e4))
         throw Error("the memory budget must be 0.01 to 10000 GB, got " + shortest_text(query.memory_budget_gb));
     if (query.footprints.count < 0 || query.footprints.count > 100000)

@@ -192,12 +192,17 @@ const std::vector<KeyBinding>& bindings() {
         {{"res", "N", "image resolution N (N x N) (default 256)", ""},
          [](LobeQuery& q, const std::string& t) { q.resolution = parse_int(t); },
          [](const LobeQuery& q) { return std::to_string(q.resolution); }},
-        {{"supersample", "K|auto",
-          "K x K sub-pixel average (default auto: enough that a wave lobe's coherence blur spans 1.5 sub-pixels; "
-          "1 for geometric methods)",
+        {{"supersample", "K|auto|exact",
+          "K x K sub-pixel average, or exact: pixels integrated exactly (geometric) (default auto: exact where the "
+          "method can, else enough that a wave lobe's coherence blur spans 1.5 sub-pixels, else 1)",
           ""},
-         [](LobeQuery& q, const std::string& t) { q.supersample = t == "auto" ? 0 : parse_int(t); },
-         [](const LobeQuery& q) { return q.supersample == 0 ? std::string("auto") : std::to_string(q.supersample); }},
+         [](LobeQuery& q, const std::string& t) {
+             q.supersample = t == "auto" ? 0 : t == "exact" ? kExactPixels : parse_int(t);
+         },
+         [](const LobeQuery& q) {
+             return q.supersample == 0 ? std::string("auto")
+                                       : q.supersample == kExactPixels ? std::string("exact") : std::to_string(q.supersample);
+         }},
         {{"memory", "GB",
           "memory budget of a method's working grids in GB, e.g. the FFT footprint grid of a large sigma_c "
           "(default 4; over it the FFT lowers its oversampling, then refuses)",

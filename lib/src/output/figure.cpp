@@ -13,6 +13,7 @@
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/geometry.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "glintscope/lobe/compare.hpp"
 
 namespace glintscope {
 namespace {
@@ -148,21 +149,26 @@ double shown(double value, const DisplayExposure& exposure) {
     return std::clamp(1.0 + std::log10(value / exposure.white_level) / exposure.log_decades, 0.0, 1.0);
 }
 
-// A signed image (a difference of two lobes) is drawn on a diverging scale symmetric about 0.
+// A signed image (a difference of two lobes, compare.hpp, even where it is ≥ 0, or any image
+// with a negative value) is drawn on a diverging scale symmetric about 0.
 bool is_signed(const LobeImage& lobe) {
-    return !spectral(lobe) && std::any_of(lobe.values.begin(), lobe.values.end(), [](float v) { return v < 0.0f; });
+    if (spectral(lobe)) return false;
+    return lobe.metadata.contains("difference") ||
+           std::any_of(lobe.values.begin(), lobe.values.end(), [](float v) { return v < 0.0f; });
 }
 
 DisplayExposure signed_exposure(const LobeImage& lobe) {
     DisplayExposure exposure;
-    for (float v : lobe.values) exposure.white_level = std::max(exposure.white_level, double(std::fabs(v)));
-    if (!(exposure.white_level > 0.0)) exposure.white_level = 1.0;
+    exposure.white_level = 0.0;  // the largest |value|, however small (the default white is 1)
+    for (float v : lobe.values)
+        if (std::isfinite(v)) exposure.white_level = std::max(exposure.white_level, double(std::fabs(v)));
+    if (!(exposure.white_level > 0.0)) exposure.white_level = 1.0;  // all zero: any scale shows it grey
     exposure.ev = -std::log2(exposure.white_level);
     exposure.rule = "symmetric: +-max |value| maps to the ends";
     return exposure;
 }
 
-// Moreland's cool-warm diverging map (blue, grey, red in sRGB) at t in [−1, 1].
+// Moreland 2009's cool-warm diverging map (blue, grey, red in sRGB) at t in [−1, 1].
 Colour diverging(double t) {
     constexpr Colour blue{0.230f, 0.299f, 0.754f}, middle{0.865f, 0.865f, 0.865f}, red{0.706f, 0.016f, 0.150f};
     const float a = float(std::min(1.0, std::fabs(t)));
@@ -488,7 +494,7 @@ void write_lobe_picture(const LobeImage& lobe, const std::string& path, const Lo
     write_png(picture, path, metadata);
 }
 
-void write_figure(const Figure& figure, const std::string& path, const LobeOutputOptions& options) {
+FigureLayout write_figure(const Figure& figure, const std::string& path, const LobeOutputOptions& options) {
     if (figure.cells.empty() || figure.cells.front().empty()) throw Error("cannot write '" + path + "': the figure has no panels");
     const std::size_t columns = figure.cells.front().size();
     int resolution = 0;
@@ -563,7 +569,11 @@ void write_figure(const Figure& figure, const std::string& path, const LobeOutpu
     const std::string rule = figure.exposure == SharedExposure::per_panel ? "each panel exposed on its own"
                            : figure.exposure == SharedExposure::per_row   ? "one exposure per row"
                                                                           : "one exposure for the whole figure";
-    const std::string caption = figure.caption.empty() ? rule : figure.caption + "; " + rule;
+    bool differences = false;
+    for (const auto& row : figure.cells)
+        for (const LobeImage* image : row) differences = differences || (image && is_signed(*image));
+    const std::string rules = differences ? rule + ", differences each on their own scale symmetric about 0" : rule;
+    const std::string caption = figure.caption.empty() ? rules : figure.caption + "; " + rules;
     const int width = std::max(label_width + inset_width + int(columns) * cell_width, 2 * kMargin + text_width(caption));
     const int height = title_height + header_height + int(figure.cells.size()) * cell_height + kFont + 3 * kMargin;
     OIIO::ImageBuf canvas = blank(width, height);
@@ -574,15 +584,36 @@ void write_figure(const Figure& figure, const std::string& path, const LobeOutpu
     for (std::size_t c = 0; c < figure.column_labels.size() && c < columns; ++c)
         text(canvas, label_width + inset_width + int(c) * cell_width + cell_width / 2, title_height + kMargin / 2,
              figure.column_labels[c], kBlack, OIIO::ImageBufAlgo::TextAlignX::Center);
+    FigureLayout layout{width, height, std::vector<std::vector<PixelSquare>>(figure.cells.size())};
     for (std::size_t r = 0; r < figure.cells.size(); ++r) {
         const int y = title_height + header_height + int(r) * cell_height;
         if (r < figure.row_labels.size()) text(canvas, kMargin, y + cell_height / 2 - kFont, figure.row_labels[r]);
         if (r < inset_panels.size()) paste(canvas, inset_panels[r], label_width, y);
-        for (std::size_t c = 0; c < columns; ++c)
-            if (figure.cells[r][c]) paste(canvas, panels[r][c], label_width + inset_width + int(c) * cell_width, y);
+        for (std::size_t c = 0; c < columns; ++c) {
+            const int x = label_width + inset_width + int(c) * cell_width;
+            if (figure.cells[r][c]) paste(canvas, panels[r][c], x, y);
+            layout.disks[r].push_back({x + kMargin, y + kMargin, panel_size(resolution)});  // panel(): the disk's place
+        }
     }
     text(canvas, kMargin, height - kFont - 2 * kMargin, caption);
     write_png(canvas, path);
+    return layout;
+}
+
+FigureLayout write_difference_figure(const LobeImage& test, const LobeImage& reference, const DifferenceFigure& labels,
+                                     const std::string& path, const LobeOutputOptions& options) {
+    const LobeImage difference = difference_image(test, reference);
+    Figure figure;
+    figure.title = labels.title;
+    figure.caption = labels.caption;
+    figure.column_labels = {labels.test_label, labels.reference_label};
+    figure.cells = {{&test, &reference}};
+    if (test.layers() == 1) {
+        figure.column_labels.push_back(labels.difference_label);
+        figure.cells[0].push_back(&difference);
+    }
+    figure.exposure = SharedExposure::per_row;  // test and reference alike; the difference on its own scale
+    return write_figure(figure, path, options);
 }
 
 }  // namespace glintscope

@@ -40,13 +40,17 @@ std::vector<double> parse_list(const std::string& text, const std::string& path)
 }
 
 // A metadata value as JSON: a number where the text is exactly a number's shortest form (so it
-// reads back as the same text), else a string.
-std::string json_value(const std::string& value) {
+// reads back as the same text; whole numbers as integers), else a string.
+nlohmann::ordered_json json_value(const std::string& value) {
     try {
-        if (shortest_text(parse_number(value)) == value) return value;
+        const double number = parse_number(value);
+        if (shortest_text(number) == value)
+            return std::trunc(number) == number && std::fabs(number) < 1e15 && !(number == 0.0 && std::signbit(number))
+                       ? nlohmann::ordered_json(static_cast<long long>(number))  // "-0" stays a double
+                       : nlohmann::ordered_json(number);
     } catch (const Error&) {
     }
-    return json_string(value);
+    return value;
 }
 
 void check_lobe(const LobeImage& lobe) {
@@ -88,15 +92,6 @@ void write_image(const std::string& path, const OIIO::ImageSpec& spec, const voi
 
 void add_attributes(OIIO::ImageSpec& spec, const Provenance& entries) {
     for (const auto& [key, value] : entries) spec.attribute(std::string(attribute_prefix) + key, value);
-}
-
-std::string json_numbers(const std::vector<double>& values) {
-    std::string text = "[";
-    for (std::size_t i = 0; i < values.size(); ++i) {
-        if (i > 0) text += ", ";
-        text += json_number(values[i]);
-    }
-    return text + "]";
 }
 
 // Σ Y (2/N)² of the colour image: the luminous albedo of a spectral lobe.
@@ -153,13 +148,11 @@ std::vector<WavelengthSummary> summarize_lobe(const LobeImage& lobe) {
         summary.wavelength_um = lobe.wavelengths_um[layer];
         summary.peak_value = -std::numeric_limits<float>::infinity();
         summary.peak_row = summary.peak_col = n / 2;  // kept only if no finite value lies in the disk
-        double total = 0.0;
         for (int row = 0; row < n; ++row)
             for (int col = 0; col < n; ++col) {
                 const DiskPoint p = disk_pixel_point(row, col, n);
                 const float value = lobe.at(layer, row, col);
                 if (!inside_unit_disk(p) || !std::isfinite(value)) continue;
-                total += value;
                 if (value > summary.peak_value) {
                     summary.peak_value = value;
                     summary.peak_row = row;
@@ -169,7 +162,7 @@ std::vector<WavelengthSummary> summarize_lobe(const LobeImage& lobe) {
         if (!std::isfinite(summary.peak_value)) summary.peak_value = 0.0f;
         const DiskPoint p = disk_pixel_point(summary.peak_row, summary.peak_col, n);
         summary.peak_direction = direction_from_disk(p.x, p.y);
-        summary.disk_sum = total * disk_pixel_area(n);  // conventions.md: Σ f_r (2/N)² is ∫ f_r cos θ_o dω_o
+        summary.disk_sum = disk_sum(lobe, layer);  // conventions.md: Σ f_r (2/N)² is ∫ f_r cos θ_o dω_o
         summaries.push_back(summary);
     }
     return summaries;
@@ -261,49 +254,42 @@ void write_lobe_json(const LobeImage& lobe, const std::string& path, const LobeO
     check_lobe(lobe);
     const ColourSettings& colour = options.colour;
     const DisplayExposure exposure = display_exposure(lobe, colour);
-    std::string json = "{\n";
-    json += "  \"format\": \"glintscope lobe\",\n";
-    json += "  \"resolution\": " + std::to_string(lobe.resolution) + ",\n";
-    json += "  \"quantity\": " + json_string(to_string(lobe.quantity)) + ",\n";
-    json += "  \"units\": " + json_string(labels(lobe.quantity).units) + ",\n";
-    json += "  \"wavelengths_um\": " + json_numbers(lobe.wavelengths_um) + ",\n";
-    json += "  \"summary\": [\n";
-    const std::vector<WavelengthSummary> summaries = summarize_lobe(lobe);
-    for (std::size_t i = 0; i < summaries.size(); ++i) {
-        const WavelengthSummary& s = summaries[i];
+    const std::string& sum_name = labels(lobe.quantity).sum_name;
+    nlohmann::ordered_json summary = nlohmann::ordered_json::array();
+    for (const WavelengthSummary& s : summarize_lobe(lobe)) {
         const Vec3 d = s.peak_direction;
-        json += "    {\"wavelength_um\": " + json_number(s.wavelength_um) + ", \"peak_value\": " +
-                json_number(s.peak_value) + ", \"peak_pixel\": [" + std::to_string(s.peak_row) + ", " +
-                std::to_string(s.peak_col) + "], \"peak_direction\": " + json_numbers({d.x, d.y, d.z}) +
-                ", \"peak_theta_deg\": " + json_number(std::acos(std::clamp(d.z, -1.0, 1.0)) * 180.0 / pi) +
-                ", \"peak_phi_deg\": " + json_number(std::atan2(d.y, d.x) * 180.0 / pi) +
-                ", \"" + labels(lobe.quantity).sum_name + "\": " + json_number(s.disk_sum) + "}" + (i + 1 < summaries.size() ? "," : "") + "\n";
+        summary.push_back({{"wavelength_um", s.wavelength_um},
+                           {"peak_value", s.peak_value},
+                           {"peak_pixel", {s.peak_row, s.peak_col}},
+                           {"peak_direction", {d.x, d.y, d.z}},
+                           {"peak_theta_deg", std::acos(std::clamp(d.z, -1.0, 1.0)) * 180.0 / pi},
+                           {"peak_phi_deg", std::atan2(d.y, d.x) * 180.0 / pi},
+                           {sum_name, s.disk_sum}});
     }
-    json += "  ],\n";
-    json += "  \"colour\": {\n";
-    json += "    \"config\": " + json_string(colour_config_name(colour)) + ",\n";
-    json += "    \"illuminant\": " + json_string(to_string(colour.illuminant)) + ",\n";
-    json += "    \"exr_colour_space\": " + json_string(is_spectral(lobe) ? colour.output_space : "none (Y channel)") + ",\n";
-    json += "    \"png_colour_space\": " + json_string(is_spectral(lobe) || options.colormap == "grey"
-                                                         ? colour.display_space
-                                                         : "colour map " + options.colormap) + ",\n";
-    if (is_spectral(lobe)) json += "    \"luminance_" + labels(lobe.quantity).sum_name + "\": " + json_number(luminance_albedo(lobe, colour.illuminant)) + ",\n";
-    json += "    \"png_exposure_ev\": " + json_number(exposure.ev) + ",\n";
-    json += "    \"png_white_level\": " + json_number(exposure.white_level) + ",\n";
-    json += "    \"png_exposure_rule\": " + json_string(exposure.rule) + ",\n";
-    json += "    \"png_log_scale\": " + std::string(exposure.log_scale ? "true" : "false") + ",\n";
-    json += "    \"png_log_decades\": " + json_number(exposure.log_decades) + "\n";
-    json += "  },\n";
-    json += "  \"metadata\": {";
-    bool first = true;
-    for (const auto& [key, value] : lobe.metadata) {
-        json += first ? "\n    " : ",\n    ";
-        json += json_string(key) + ": " + json_value(value);
-        first = false;
-    }
-    json += first ? "}\n" : "\n  }\n";
-    json += "}\n";
-    write_text_file(path, json);
+    nlohmann::ordered_json colour_json = {
+        {"config", colour_config_name(colour)},
+        {"illuminant", to_string(colour.illuminant)},
+        {"exr_colour_space", is_spectral(lobe) ? colour.output_space : "none (Y channel)"},
+        {"png_colour_space", is_spectral(lobe) || options.colormap == "grey" ? colour.display_space
+                                                                               : "colour map " + options.colormap}};
+    if (is_spectral(lobe)) colour_json["luminance_" + sum_name] = luminance_albedo(lobe, colour.illuminant);
+    colour_json["png_exposure_ev"] = exposure.ev;
+    colour_json["png_white_level"] = exposure.white_level;
+    colour_json["png_exposure_rule"] = exposure.rule;
+    colour_json["png_log_scale"] = exposure.log_scale;
+    colour_json["png_log_decades"] = exposure.log_decades;
+    nlohmann::ordered_json metadata = nlohmann::ordered_json::object();
+    for (const auto& [key, value] : lobe.metadata) metadata[key] = json_value(value);
+    const nlohmann::ordered_json json = {{"format", "glintscope lobe"},
+                                         {"resolution", lobe.resolution},
+                                         {"quantity", to_string(lobe.quantity)},
+                                         {"units", labels(lobe.quantity).units},
+                                         {"wavelengths_um", lobe.wavelengths_um},
+                                         {"summary", summary},
+                                         {"colour", colour_json},
+                                         {"metadata", metadata}};
+    // Invalid UTF-8 in a recorded value (a file name, say) is replaced, not a reason to fail.
+    write_text_file(path, json.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
 }
 
 double recorded_exposure_ev(const std::string& json_path) {
@@ -327,35 +313,52 @@ void write_lobe(const LobeImage& lobe, const std::string& path, const LobeOutput
     throw Error("cannot write lobe '" + path + "': unsupported format (use .exr, .png or .json)");
 }
 
-LobeImage load_lobe_exr(const std::string& path) {
+LobeExrLayers load_lobe_exr_layers(const std::string& path) {
     auto input = OIIO::ImageInput::open(path);
     if (!input) throw Error("cannot read lobe '" + path + "': " + one_line(OIIO::geterror()));
     const OIIO::ImageSpec& spec = input->spec();
     if (spec.width != spec.height || spec.width < 1 || spec.depth > 1)
         throw Error("cannot read lobe '" + path + "': the image is not square");
+    // No lobe the tool writes is larger (query.cpp: N ≤ 8192, 4 GB of values, plus R, G, B): a
+    // header claiming more is refused before anything is allocated.
+    if (spec.width > 8192 || 4.0 * double(spec.width) * spec.height * spec.nchannels > 5e9)
+        throw Error("cannot read lobe '" + path + "': its header claims " + std::to_string(spec.width) + "² pixels x " +
+                    std::to_string(spec.nchannels) + " channels, more than any lobe glintscope writes");
     const std::string wavelengths_key = std::string(attribute_prefix) + "output.wavelengths_um";
     const OIIO::ParamValue* wavelengths = spec.find_attribute(wavelengths_key, OIIO::TypeDesc::STRING);
     if (!wavelengths) throw Error("cannot read lobe '" + path + "': no " + wavelengths_key + " attribute");
-
     const OIIO::ParamValue* quantity =
         spec.find_attribute(std::string(attribute_prefix) + "output.quantity", OIIO::TypeDesc::STRING);
-    LobeImage lobe = make_lobe_image(spec.width, parse_list(wavelengths->get_string(), path),
-                                     quantity ? parse_quantity(quantity->get_string()) : Quantity::brdf);
+
+    LobeExrLayers lobe;
+    lobe.resolution = spec.width;
+    lobe.quantity = quantity ? parse_quantity(quantity->get_string()) : Quantity::brdf;
+    lobe.wavelengths_um = parse_list(wavelengths->get_string(), path);
     std::vector<int> channels;
     if (lobe.wavelengths_um.size() == 1) {
         channels.push_back(spec.channelindex(labels(lobe.quantity).channel));
     } else {
         for (double lambda : lobe.wavelengths_um) channels.push_back(spec.channelindex(spectral_channel_name(lambda)));
     }
-    for (int channel : channels)
-        if (channel < 0)
-            throw Error("cannot read lobe '" + path + "': it has no per-wavelength channels (" +
-                        (lobe.wavelengths_um.size() == 1 ? labels(lobe.quantity).channel : "S0.<nm>") +
-                        "); write spectral lobes with spectral channels to read them back");
+    if (std::find(channels.begin(), channels.end(), -1) == channels.end()) {
+        for (double lambda : lobe.wavelengths_um) lobe.names.push_back(shortest_text(lambda) + " um");
+    } else if (lobe.wavelengths_um.size() > 1) {  // a spectral lobe written as R, G, B only
+        lobe.colour = true;
+        lobe.names = {"R", "G", "B"};
+        const auto recorded = [&](const std::string& key) {
+            return std::string(spec.get_string_attribute(std::string(attribute_prefix) + key));
+        };
+        lobe.colour_encoding = recorded("output.colour_space") + " under " + recorded("output.illuminant");
+        channels = {spec.channelindex("R"), spec.channelindex("G"), spec.channelindex("B")};
+    }
+    if (std::find(channels.begin(), channels.end(), -1) != channels.end())
+        throw Error("cannot read lobe '" + path + "': it has neither per-wavelength channels (" +
+                    (lobe.wavelengths_um.size() == 1 ? labels(lobe.quantity).channel : "S0.<nm>") + ") nor R, G, B");
     const std::size_t pixels = std::size_t(spec.width) * spec.height;
     std::vector<float> all(pixels * spec.nchannels);
     if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
         throw Error("cannot read lobe '" + path + "': " + one_line(input->geterror()));
+    lobe.values.resize(pixels * channels.size());
     for (std::size_t layer = 0; layer < channels.size(); ++layer)
         for (std::size_t i = 0; i < pixels; ++i) lobe.values[layer * pixels + i] = all[i * spec.nchannels + channels[layer]];
     for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
@@ -364,6 +367,17 @@ LobeImage load_lobe_exr(const std::string& path) {
         const std::string key = name.substr(attribute_prefix.size());
         if (!key.starts_with(output_prefix)) lobe.metadata[key] = attribute.get_string();
     }
+    return lobe;
+}
+
+LobeImage load_lobe_exr(const std::string& path) {
+    LobeExrLayers layers = load_lobe_exr_layers(path);
+    if (layers.colour)
+        throw Error("cannot read lobe '" + path + "': it has no per-wavelength channels (S0.<nm>), only R, G, B; "
+                    "write spectral lobes with spectral channels to read them back");
+    LobeImage lobe = make_lobe_image(layers.resolution, layers.wavelengths_um, layers.quantity);
+    lobe.values = std::move(layers.values);
+    lobe.metadata = std::move(layers.metadata);
     return lobe;
 }
 

@@ -118,6 +118,7 @@ bool point_sampled(const MethodInfo& method, const LobeQuery& query) {
 }
 
 int supersample_for(const MethodInfo& method, const LobeQuery& query) {
+    if (method.exact_pixels) return kExactPixels;
     if (!method.wave_optics || query.footprint.shape != FootprintShape::gaussian) return 1;
     const double pixel = 2.0 / query.resolution;
     return std::clamp(static_cast<int>(std::ceil(1.5 * pixel / coherence_blur(query))), 1, 8);
@@ -220,6 +221,9 @@ LobePlan plan_lobe(const std::string& method, const LobeQuery& query) {
     } catch (const Error& e) {
         throw Error(method + ": " + e.what());
     }
+    if (query.supersample == kExactPixels && !entry.info.exact_pixels)
+        throw Error("method '" + method + "' cannot integrate pixels exactly (supersample exact; methods that can: " +
+                    methods_that([](const MethodInfo& info) { return info.exact_pixels; }) + "): give K or auto");
     LobePlan plan{method, query, {}, {}};
     if (query.supersample == 0) {
         plan.query.supersample = supersample_for(entry.info, query);
@@ -274,11 +278,11 @@ std::vector<std::string> query_warnings(const std::string& method, const LobeQue
     const MethodInfo& info = find_method(method).info;
     std::vector<std::string> warnings;
     if (point_sampled(info, query)) {
-        const double pixel = 2.0 / (query.resolution * std::max(query.supersample, 1));
+        const double pixel = 2.0 / (query.resolution * query.supersample);
         warnings.push_back("the coherence blur lambda/(2 pi sigma_c) = " + rounded(coherence_blur(query)) +
                            " is smaller than a sub-pixel (" + rounded(pixel) +
                            "): the lobe is point-sampled and its albedo and peak are off (use --supersample " +
-                           std::to_string(supersample_for(info, query) * std::max(query.supersample, 1)) +
+                           std::to_string(supersample_for(info, query) * query.supersample) +
                            " or a larger --res)");
     }
     // Kirchhoff-based models ignore shadowing and masking, which dominate near grazing.

@@ -10,6 +10,7 @@
 #include "glintscope/core/error.hpp"
 #include "glintscope/lobe/query_keys.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "glintscope/core/version.hpp"
 
 namespace glintscope {
 namespace {
@@ -46,17 +47,6 @@ LobeQuery single_footprint(const ValidationPlan& plan, Point2 centre) {
 }
 
 }  // namespace
-
-LobeImage difference_image(const LobeImage& test, const LobeImage& reference) {
-    compare_lobes(test, reference);  // checks that they are comparable
-    LobeImage difference = make_lobe_image(test.resolution, test.wavelengths_um, test.quantity);
-    for (std::size_t i = 0; i < difference.values.size(); ++i) difference.values[i] = test.values[i] - reference.values[i];
-    difference.metadata = test.metadata;
-    difference.metadata["method"] = test.metadata.count("method") ? test.metadata.at("method") + " - " +
-                                                                        reference.metadata.at("method")
-                                                                  : "difference";
-    return difference;
-}
 
 std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress,
                                           const PairCallback& pair) {
@@ -148,33 +138,109 @@ std::string validation_csv(const std::vector<ValidationRow>& rows) {
     return csv;
 }
 
-std::string validation_json(const ValidationPlan& plan, const std::vector<ValidationRow>& rows) {
+std::vector<ValidationSummary> summarize_validation(const std::vector<ValidationRow>& rows) {
+    std::vector<ValidationSummary> summary;
+    for (const ValidationRow& row : rows) {
+        const LayerComparison& c = row.comparison;
+        auto it = std::find_if(summary.begin(), summary.end(), [&](const ValidationSummary& s) {
+            return s.model == row.model && s.kernels_per_texel == row.kernels_per_texel && s.wavelength_um == c.wavelength_um;
+        });
+        if (it == summary.end()) it = summary.insert(summary.end(), {row.model, row.kernels_per_texel, c.wavelength_um});
+        ++it->footprints;
+        it->mean_relative_l2 += c.relative_l2;
+        it->worst_relative_l2 = std::max(it->worst_relative_l2, c.relative_l2);
+        it->mean_peak_error += c.peak_relative_error;
+        it->worst_peak_error = std::max(it->worst_peak_error, c.peak_relative_error);
+        it->mean_energy_ratio += c.energy_ratio();
+    }
+    for (ValidationSummary& s : summary) {
+        s.mean_relative_l2 /= s.footprints;
+        s.mean_peak_error /= s.footprints;
+        s.mean_energy_ratio /= s.footprints;
+    }
+    return summary;
+}
+
+const std::vector<std::string>& validation_column_definitions() {
+    static const std::vector<std::string> columns = {
+        "rel L2: sqrt(sum (t - r)^2) / sqrt(sum r^2) over the disk's pixels (t test, r reference)",
+        "peak err: |t - r| / r at the reference's brightest pixel",
+        "log err: root mean square of log10(t / r) where r is above 1e-3 of its peak (the tails)",
+        "energy: test albedo / reference albedo, each sum f_r (2/N)^2 over the disk",
+        "t test, t ref: seconds to compute the test and reference lobes (all wavelengths)",
+        "mean, worst: over the footprints of one model, K and wavelength (the summary)"};
+    return columns;
+}
+
+std::string validation_summary_csv(const std::vector<ValidationSummary>& summary) {
+    std::string csv = "model,kernels_per_texel,wavelength_um,footprints,mean_relative_l2,worst_relative_l2,"
+                      "mean_peak_relative_error,worst_peak_relative_error,mean_energy_ratio\n";
+    for (const ValidationSummary& s : summary)
+        csv += join({to_string(s.model), std::to_string(s.kernels_per_texel), shortest_text(s.wavelength_um),
+                     std::to_string(s.footprints), shortest_text(s.mean_relative_l2), shortest_text(s.worst_relative_l2),
+                     shortest_text(s.mean_peak_error), shortest_text(s.worst_peak_error),
+                     shortest_text(s.mean_energy_ratio)},
+                    ",") +
+               "\n";
+    return csv;
+}
+
+std::string validation_json(const ValidationPlan& plan, const std::vector<ValidationRow>& rows,
+                            const std::string& command_line, const std::vector<std::string>& pictures) {
     nlohmann::ordered_json report;
     report["format"] = "glintscope validation";
+    report["version"] = version();
+    if (!command_line.empty()) report["command_line"] = command_line;
     report["test_method"] = plan.test_method;
     report["reference_method"] = plan.reference_method;
     nlohmann::ordered_json query;
     for (const auto& [key, value] : query_text(plan.base))
-        if (key != "centre") query[key] = value;
+        if (key != "centre" && key != "model") query[key] = value;
     report["query"] = query;
+    nlohmann::ordered_json models = nlohmann::ordered_json::array(), densities = nlohmann::ordered_json::array();
+    for (DiffractionModel model : plan.models.empty() ? std::vector{plan.base.model} : plan.models)
+        models.push_back(to_string(model));
+    for (int k : plan.kernels_per_texel) densities.push_back(k);
+    report["models"] = models;
+    report["kernels_per_texel"] = densities;  // empty: the test method's default
+    nlohmann::ordered_json centres = nlohmann::ordered_json::array();
+    for (const Point2& centre : validation_centres(plan)) centres.push_back({centre.x, centre.y});
+    report["footprint_centres_um"] = centres;
+    report["wavelengths_um"] = plan.base.wavelengths_um;
+    report["columns"] = validation_column_definitions();
+    nlohmann::ordered_json summary = nlohmann::ordered_json::array();
+    for (const ValidationSummary& s : summarize_validation(rows))
+        summary.push_back({{"model", to_string(s.model)},
+                           {"kernels_per_texel", s.kernels_per_texel},
+                           {"wavelength_um", s.wavelength_um},
+                           {"footprints", s.footprints},
+                           {"mean_relative_l2", s.mean_relative_l2},
+                           {"worst_relative_l2", s.worst_relative_l2},
+                           {"mean_peak_relative_error", s.mean_peak_error},
+                           {"worst_peak_relative_error", s.worst_peak_error},
+                           {"mean_energy_ratio", s.mean_energy_ratio}});
+    report["summary"] = summary;
     nlohmann::ordered_json list = nlohmann::ordered_json::array();
-    for (const ValidationRow& row : rows) {
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+        const ValidationRow& row = rows[k];
         const LayerComparison& c = row.comparison;
-        list.push_back({{"centre_um", {row.centre_um.x, row.centre_um.y}},
-                        {"model", to_string(row.model)},
-                        {"kernels_per_texel", row.kernels_per_texel},
-                        {"wavelength_um", c.wavelength_um},
-                        {"relative_l2", c.relative_l2},
-                        {"peak_relative_error", c.peak_relative_error},
-                        {"log_rms_error", c.log_rms_error},
-                        {"energy_ratio", c.energy_ratio()},
-                        {"test_sum", c.test_sum},
-                        {"reference_sum", c.reference_sum},
-                        {"max_abs_difference", c.max_abs_difference},
-                        {"max_pixel", {c.max_row, c.max_col}},
-                        {"peak_offset_pixels", c.peak_offset_pixels},
-                        {"test_seconds", row.test_seconds},
-                        {"reference_seconds", row.reference_seconds}});
+        nlohmann::ordered_json entry = {{"centre_um", {row.centre_um.x, row.centre_um.y}},
+                                        {"model", to_string(row.model)},
+                                        {"kernels_per_texel", row.kernels_per_texel},
+                                        {"wavelength_um", c.wavelength_um},
+                                        {"relative_l2", c.relative_l2},
+                                        {"peak_relative_error", c.peak_relative_error},
+                                        {"log_rms_error", c.log_rms_error},
+                                        {"energy_ratio", c.energy_ratio()},
+                                        {"test_sum", c.test_sum},
+                                        {"reference_sum", c.reference_sum},
+                                        {"max_abs_difference", c.max_abs_difference},
+                                        {"max_pixel", {c.max_row, c.max_col}},
+                                        {"peak_offset_pixels", c.peak_offset_pixels},
+                                        {"test_seconds", row.test_seconds},
+                                        {"reference_seconds", row.reference_seconds}};
+        if (k < pictures.size() && !pictures[k].empty()) entry["picture"] = pictures[k];
+        list.push_back(entry);
     }
     report["rows"] = list;
     return report.dump(2) + "\n";

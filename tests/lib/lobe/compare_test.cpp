@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "glintscope/lobe/compare.hpp"
 #include "glintscope/core/error.hpp"
@@ -49,6 +51,41 @@ TEST(CompareLobes, RefusesImagesOfDifferentShapeOrQuantity) {
     LobeImage ndf = spot(32, 16, 16, 1.0);
     ndf.quantity = Quantity::ndf;
     EXPECT_THROW(compare_lobes(ndf, spot(32, 16, 16, 1.0)), Error);
+}
+
+TEST(CompareLobes, OneLayerComparesAsTheImageDoes) {
+    LobeImage reference = make_lobe_image(32, {0.45, 0.55});
+    LobeImage test = reference;
+    const LobeImage first = spot(32, 16, 16, 1.0), second = spot(32, 12, 20, 2.0);
+    const std::size_t pixels = 32 * 32;
+    std::copy(first.values.begin(), first.values.end(), reference.values.begin());
+    std::copy(second.values.begin(), second.values.end(), reference.values.begin() + pixels);
+    std::copy(second.values.begin(), second.values.end(), test.values.begin());
+    std::copy(first.values.begin(), first.values.end(), test.values.begin() + pixels);
+    const std::vector<LayerComparison> whole = compare_lobes(test, reference);
+    const std::span<const float> t(test.values), r(reference.values);
+    for (std::size_t layer = 0; layer < 2; ++layer) {
+        const LayerComparison one = compare_layer(t.subspan(layer * pixels, pixels), r.subspan(layer * pixels, pixels), 32);
+        EXPECT_EQ(one.relative_l2, whole[layer].relative_l2);
+        EXPECT_EQ(one.energy_ratio(), whole[layer].energy_ratio());
+        EXPECT_EQ(one.peak_offset_pixels, std::hypot(4.0, 4.0));
+        EXPECT_EQ(one.log_rms_error, whole[layer].log_rms_error);
+        EXPECT_EQ(one.wavelength_um, 0.0);
+        EXPECT_EQ(whole[layer].wavelength_um, reference.wavelengths_um[layer]);
+    }
+    EXPECT_THROW(compare_layer(t.subspan(0, pixels - 1), r.subspan(0, pixels), 32), Error);
+}
+
+TEST(CompareLobes, DifferenceIsTestMinusReferenceAndNamesBothMethods) {
+    LobeImage test = spot(16, 8, 8, 1.5), reference = spot(16, 8, 8, 1.0);
+    test.metadata["method"] = "gabor";
+    reference.metadata["method"] = "fft";
+    const LobeImage difference = difference_image(test, reference);
+    for (std::size_t i = 0; i < difference.values.size(); ++i)
+        EXPECT_EQ(difference.values[i], test.values[i] - reference.values[i]);
+    EXPECT_EQ(difference.metadata.at("method"), "gabor - fft");
+    EXPECT_TRUE(difference.metadata.contains("difference"));  // drawn signed although every value is ≥ 0
+    EXPECT_THROW(difference_image(spot(16, 8, 8, 1.0), spot(32, 8, 8, 1.0)), Error);
 }
 
 }  // namespace

@@ -14,20 +14,14 @@
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/core/parallel.hpp"
 
+#include "sampled_field.hpp"
+
 namespace glintscope {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-Heightfield field_from(int rows, int cols, double texel, const std::function<double(double, double)>& height) {
-    Heightfield field = make_heightfield(rows, cols, texel);
-    for (int r = 0; r < rows; ++r)
-        for (int c = 0; c < cols; ++c) {
-            const Point2 s = sample_position(field, r, c);
-            field.at(r, c) = static_cast<float>(height(s.x, s.y));
-        }
-    return field;
-}
+using testing::sampled_field;
 
 double total_mass(const std::vector<double>& density, int resolution) {
     double sum = 0.0;
@@ -66,7 +60,7 @@ Heightfield isotropic_field(int size) {
 
 TEST(NormalDensity, PlanePutsAllWeightInThePixelOfItsNormal) {
     const double a = 0.3, b = -0.2;
-    const BicubicInterpolant surface(field_from(64, 64, 1.0, [&](double x, double y) { return a * x + b * y; }));
+    const BicubicInterpolant surface(sampled_field(64, 64, 1.0, [&](double x, double y) { return a * x + b * y; }));
     const int n = 64;
     // Well inside the tile, away from the plane's wrap-around step.
     const std::vector<double> density = normal_density(surface, gaussian_at({32.0, 32.0}, 4.0), n, {});
@@ -89,7 +83,7 @@ TEST(NormalDensity, SphereCapUnderGaussianFootprintIsGaussianOfCentreOverRadius)
     // deviation (σ_c/√2)/R on the projected disk.
     const double radius = 200.0;
     const Point2 origin{128.0, 128.0};
-    const BicubicInterpolant surface(field_from(256, 256, 1.0, [&](double x, double y) {
+    const BicubicInterpolant surface(sampled_field(256, 256, 1.0, [&](double x, double y) {
         return std::sqrt(radius * radius - (x - origin.x) * (x - origin.x) - (y - origin.y) * (y - origin.y));
     }));
     const Point2 centre{origin.x + 20.0, origin.y - 10.0};
@@ -118,7 +112,7 @@ TEST(NormalDensity, ParaboloidIsAGaussianInSlopeSpace) {
     // D(h) = p(s) (1 + |s|²)². The bicubic reproduces quadratics exactly.
     const double a = 0.008, b = 0.006, c = 0.002;  // Hessian eigenvalues 0.0092, 0.0048
     const Point2 origin{118.0, 135.0}, centre{128.0, 128.0};
-    const BicubicInterpolant surface(field_from(256, 256, 1.0, [&](double x, double y) {
+    const BicubicInterpolant surface(sampled_field(256, 256, 1.0, [&](double x, double y) {
         const double u = x - origin.x, v = y - origin.y;
         return 0.5 * a * u * u + 0.5 * b * v * v + c * u * v;
     }));
@@ -152,7 +146,7 @@ TEST(NormalDensity, RectangularBoxOfAParaboloidSpreadsTheSlopesOverEachSide) {
     // a·W and a·H, so its variances are a²W²/12 and a²H²/12 (Dong 2015 measures 70 × 53 µm patches).
     const double a = 0.004;
     const Point2 origin{128.0, 128.0};
-    const BicubicInterpolant surface(field_from(256, 256, 1.0, [&](double x, double y) {
+    const BicubicInterpolant surface(sampled_field(256, 256, 1.0, [&](double x, double y) {
         return 0.5 * a * ((x - origin.x) * (x - origin.x) + (y - origin.y) * (y - origin.y));
     }));
     Footprint box;
@@ -184,7 +178,7 @@ TEST(NormalDensity, SinusoidOverWholePeriodsFollowsTheArcsineLawWithSharpEdges) 
     const double period = 64.0, s_max = 0.45;
     const double amplitude = s_max * period / (2.0 * kPi);
     const BicubicInterpolant surface(
-        field_from(4, 256, 0.25, [&](double x, double) { return amplitude * std::sin(2.0 * kPi * x / period); }));
+        sampled_field(4, 256, 0.25, [&](double x, double) { return amplitude * std::sin(2.0 * kPi * x / period); }));
     const int n = 127;  // odd: m_y = 0 is the centre of row 63
     const std::vector<double> density = normal_density(surface, whole_field(), n, {});
     const auto cdf = [&](double m) {  // mass with m_x ≤ m; m_x = −s/√(1 + s²) and the law is even
@@ -295,7 +289,7 @@ TEST(NormalDensity, IsTheExactCoverageOfTheCornerImageTriangles) {
         for (double& value : expected) value /= total * disk_pixel_area(n);
         const std::vector<double> density = normal_density(surface, box, n, {1, 0.0, 0.0});
         const double error = relative_l2(density, expected);
-        RecordProperty("relative_l2_" + std::to_string(n), testing::PrintToString(error));  // 3e-12, 7e-11
+        RecordProperty("relative_l2_" + std::to_string(n), ::testing::PrintToString(error));  // 3e-12, 7e-11
         EXPECT_LT(error, 1e-9) << "at " << n << "²";
     }
 }
@@ -374,7 +368,7 @@ TEST(NormalDensity, ErrorFallsAtLeastByHalfPerRefinementDoubling) {
 }
 
 TEST(NormalDensity, IntrinsicRoughnessBlursAPlaneIntoAGaussianOfThatWidth) {
-    const BicubicInterpolant surface(field_from(32, 32, 1.0, [](double, double) { return 0.0; }));
+    const BicubicInterpolant surface(sampled_field(32, 32, 1.0, [](double, double) { return 0.0; }));
     const int n = 128;
     const double roughness = 0.05;
     const std::vector<double> density = normal_density(surface, whole_field(), n, {1, 0.05, roughness});

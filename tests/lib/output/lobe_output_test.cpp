@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
 #include "scoped_ocio.hpp"
@@ -144,25 +145,38 @@ TEST_F(LobeOutput, JsonSidecarCarriesMetadataWavelengthsAndSummary) {
     const LobeImage lobe = sample_lobe(16, spectral_bin_centres_um(8));
     const std::string path = directory.file("lobe.json");
     write_lobe(lobe, path, LobeOutputOptions{});
-    std::stringstream text;
-    text << std::ifstream(path).rdbuf();
-    const std::string json = text.str();
-    EXPECT_NE(json.find("\"wavelengths_um\": [0.389375,"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"method\": \"test\""), std::string::npos);
-    EXPECT_NE(json.find("\"query.note\": \"quotes \\\" and\\ttabs\""), std::string::npos);
-    EXPECT_NE(json.find("\"albedo\": "), std::string::npos);
-    EXPECT_NE(json.find("\"png_exposure_rule\": \"auto: 99.5th percentile"), std::string::npos);
-    // The braces balance (a cheap structural check without a JSON parser).
-    int depth = 0;
-    bool in_string = false;
-    for (std::size_t i = 0; i < json.size(); ++i) {
-        if (json[i] == '\\') ++i;
-        else if (json[i] == '"') in_string = !in_string;
-        else if (!in_string && (json[i] == '{' || json[i] == '[')) ++depth;
-        else if (!in_string && (json[i] == '}' || json[i] == ']')) --depth;
-        EXPECT_GE(depth, 0);
+    std::ifstream stream(path);
+    const nlohmann::json json = nlohmann::json::parse(stream);  // valid JSON, or this throws
+    EXPECT_EQ(json["format"], "glintscope lobe");
+    EXPECT_EQ(json["resolution"], 16);
+    EXPECT_EQ(json["wavelengths_um"].get<std::vector<double>>(), lobe.wavelengths_um);
+    EXPECT_EQ(json["metadata"]["method"], "test");
+    EXPECT_EQ(json["metadata"]["query.note"], "quotes \" and\ttabs");
+    EXPECT_EQ(json["metadata"]["query.omega_i"], "0.1,0.2,0.97467943448089633");  // not one number: a string
+    const std::vector<WavelengthSummary> summaries = summarize_lobe(lobe);
+    ASSERT_EQ(json["summary"].size(), summaries.size());
+    for (std::size_t k = 0; k < summaries.size(); ++k) {
+        EXPECT_EQ(json["summary"][k]["albedo"].get<double>(), summaries[k].disk_sum);
+        EXPECT_EQ(json["summary"][k]["peak_value"].get<double>(), summaries[k].peak_value);
+        EXPECT_EQ(json["summary"][k]["peak_pixel"], nlohmann::json({summaries[k].peak_row, summaries[k].peak_col}));
     }
-    EXPECT_EQ(depth, 0);
+    EXPECT_TRUE(json["colour"]["png_exposure_rule"].get<std::string>().starts_with("auto: 99.5th percentile"));
+    EXPECT_TRUE(json["colour"].contains("luminance_albedo"));
+}
+
+TEST_F(LobeOutput, JsonMetadataNumbersAreNumbersAndInvalidUtf8IsReplaced) {
+    LobeImage lobe = sample_lobe(8, {0.5});
+    lobe.metadata["query.res"] = "8";
+    lobe.metadata["query.sigma_c"] = "2.5";
+    lobe.metadata["heightfield"] = "scan-\xe9t\xe9.x3p";  // a Latin-1 file name
+    const std::string path = directory.file("lobe.json");
+    write_lobe_json(lobe, path, LobeOutputOptions{});
+    std::ifstream stream(path);
+    const nlohmann::json json = nlohmann::json::parse(stream);
+    EXPECT_EQ(json["metadata"]["query.res"], 8);
+    EXPECT_TRUE(json["metadata"]["query.res"].is_number_integer());
+    EXPECT_EQ(json["metadata"]["query.sigma_c"], 2.5);
+    EXPECT_EQ(json["metadata"]["heightfield"], "scan-\ufffdt\ufffd.x3p");
 }
 
 TEST_F(LobeOutput, PngIsDisplayEncodedWithExposureInItsText) {

@@ -7,30 +7,16 @@
 #include "glintscope/core/error.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
 #include "glintscope/lobe/query.hpp"
+#include "lobe_queries.hpp"
 
 namespace glintscope {
 namespace {
 
-LobeQuery flat_query() {
-    LobeQuery query;
-    set_heightfield(query, make_heightfield(32, 32, 1.0));
-    query.footprint.centre_um = {16.0, 16.0};
-    query.footprint.sigma_um = 3.0;
-    query.resolution = 16;
-    return query;
-}
-
-std::string error_of(const std::string& method, const LobeQuery& query) {
-    try {
-        compute_lobe(method, query);
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
+using testing::compute_error;
+using testing::flat_query;
 
 TEST(ComputeLobe, UnknownMethodListsTheAvailableOnes) {
-    const std::string message = error_of("raytrace", flat_query());
+    const std::string message = compute_error("raytrace", flat_query());
     EXPECT_NE(message.find("unknown method 'raytrace'"), std::string::npos) << message;
     for (const MethodInfo& method : lobe_methods()) EXPECT_NE(message.find(method.name), std::string::npos) << message;
 }
@@ -38,19 +24,19 @@ TEST(ComputeLobe, UnknownMethodListsTheAvailableOnes) {
 TEST(ComputeLobe, InvalidQueriesFailBeforeTheMethodRuns) {
     LobeQuery query = flat_query();
     query.resolution = 2;
-    EXPECT_NE(error_of("fft", query).find("resolution must be between 4 and 8192"), std::string::npos);
+    EXPECT_NE(compute_error("fft", query).find("resolution must be between 4 and 8192"), std::string::npos);
     query = flat_query();
     query.omega_i = {0.0, 0.0, 2.0};
-    EXPECT_NE(error_of("gabor", query).find("unit vector"), std::string::npos);
+    EXPECT_NE(compute_error("gabor", query).find("unit vector"), std::string::npos);
 }
 
 TEST(ComputeLobe, UnknownOptionsAndBadValuesNameTheMethodOnce) {
     LobeQuery query = flat_query();
     query.method_options["colour"] = "blue";
-    const std::string unknown = error_of("gabor", query);
+    const std::string unknown = compute_error("gabor", query);
     EXPECT_EQ(unknown.rfind("gabor: method 'gabor' has no option 'colour' (options: ", 0), 0u) << unknown;
     query.method_options = {{"kernels_per_texel", "2.5"}};
-    const std::string bad = error_of("gabor", query);
+    const std::string bad = compute_error("gabor", query);
     EXPECT_EQ(bad.rfind("gabor: ", 0), 0u) << bad;
     EXPECT_EQ(bad.find("gabor: ", 1), std::string::npos) << bad;  // prefixed once
     EXPECT_NE(bad.find("kernels_per_texel"), std::string::npos) << bad;
@@ -59,7 +45,7 @@ TEST(ComputeLobe, UnknownOptionsAndBadValuesNameTheMethodOnce) {
 TEST(ComputeLobe, AMethodRefusesAQuantityItDoesNotAnswer) {
     LobeQuery query = flat_query();
     query.quantity = Quantity::ndf;
-    const std::string message = error_of("fft", query);
+    const std::string message = compute_error("fft", query);
     EXPECT_NE(message.find("method 'fft' does not compute ndf"), std::string::npos) << message;
 }
 

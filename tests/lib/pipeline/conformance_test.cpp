@@ -14,6 +14,8 @@
 #include "glintscope/core/parallel.hpp"
 #include "method_cases.hpp"
 
+#include "lobe_queries.hpp"
+
 namespace glintscope {
 namespace {
 
@@ -88,12 +90,8 @@ TEST_P(MethodConformance, UnknownOptionIsRejectedWithTheMethodsName) {
 
 TEST_P(MethodConformance, ResultsDoNotDependOnTheThreadCount) {
     const LobeQuery query = isotropic_query(GetParam().quantity);
-    set_thread_count(1);
-    const LobeImage one = compute_lobe(GetParam().method.name, query);
-    set_thread_count(4);
-    const LobeImage four = compute_lobe(GetParam().method.name, query);
-    set_thread_count(0);
-    EXPECT_EQ(one.values, four.values);
+    EXPECT_EQ(testing::compute_with_threads(GetParam().method.name, query, 1).values,
+              testing::compute_with_threads(GetParam().method.name, query, 4).values);
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodConformance,

@@ -18,6 +18,8 @@
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/prepare/prepare.hpp"
 
+#include "sampled_field.hpp"
+
 namespace glintscope {
 namespace {
 
@@ -26,15 +28,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 using HeightFunction = std::function<double(double x, double y)>;
 
-Heightfield sampled(int rows, int cols, double texel_um, const HeightFunction& height) {
-    Heightfield field = make_heightfield(rows, cols, texel_um);
-    for (int r = 0; r < rows; ++r)
-        for (int c = 0; c < cols; ++c) {
-            const Point2 s = sample_position(field, r, c);
-            field.at(r, c) = static_cast<float>(height(s.x, s.y));
-        }
-    return field;
-}
+using testing::sampled_field;
 
 void punch_disk(Heightfield& field, double row, double col, double radius) {
     for (int r = 0; r < field.rows; ++r)
@@ -83,7 +77,7 @@ TEST(FillMissing, BiharmonicCarriesACubicThroughInteriorHolesExactly) {
         const double v = y / 50.0 - 1.0;
         return 0.3 + 0.5 * u - 0.2 * v + 0.7 * u * v - 0.4 * u * u * u + 0.25 * u * v * v + 0.6 * v * v * v;
     };
-    const Heightfield truth = sampled(96, 130, 1.0, cubic);
+    const Heightfield truth = sampled_field(96, 130, 1.0, cubic);
     Heightfield field = truth;
     punch_interior_holes(field);
     const Heightfield holes = field;
@@ -99,7 +93,7 @@ TEST(FillMissing, HarmonicCarriesAHarmonicFunctionThroughInteriorHolesExactly) {
         const double v = y / 60.0 - 1.0;
         return 0.2 + 0.4 * u - 0.3 * v + 0.5 * (u * u - v * v) + 0.8 * u * v;
     };
-    const Heightfield truth = sampled(96, 130, 1.0, harmonic);
+    const Heightfield truth = sampled_field(96, 130, 1.0, harmonic);
     Heightfield field = truth;
     punch_interior_holes(field);
     const Heightfield holes = field;
@@ -111,7 +105,7 @@ TEST(FillMissing, HarmonicCarriesAHarmonicFunctionThroughInteriorHolesExactly) {
 TEST(FillMissing, BiharmonicContinuesAPlaneIntoHolesAtTheBorder) {
     // The thin plate's free boundary: a plane costs no energy, so border holes stay on it.
     const HeightFunction plane = [](double x, double y) { return 1.5 + 0.02 * x - 0.035 * y; };
-    const Heightfield truth = sampled(60, 83, 0.5, plane);
+    const Heightfield truth = sampled_field(60, 83, 0.5, plane);
     Heightfield field = truth;
     punch_rectangle(field, 0, 0, 12, 9);     // the top-left corner
     punch_rectangle(field, 20, 78, 15, 5);   // along the right border
@@ -130,7 +124,7 @@ TEST(FillMissing, SmoothFieldIsReproducedCloselyAndBiharmonicBeatsHarmonic) {
     const HeightFunction smooth = [](double x, double y) {
         return std::sin(kTwoPi * x / 40.0) * std::cos(kTwoPi * y / 55.0) + 0.4 * std::sin(kTwoPi * (x + 2 * y) / 70.0);
     };
-    const Heightfield truth = sampled(96, 130, 0.5, smooth);
+    const Heightfield truth = sampled_field(96, 130, 0.5, smooth);
     Heightfield holes = truth;
     punch_interior_holes(holes);
     punch_rectangle(holes, 0, 40, 4, 12);
@@ -155,7 +149,7 @@ TEST(FillMissing, LargeHoleIsSmoothAndHarmonicStaysWithinItsRim) {
     const HeightFunction surface = [](double x, double y) {
         return 0.01 * x + 0.3 * std::sin(kTwoPi * x / 50.0) * std::sin(kTwoPi * y / 45.0);
     };
-    const Heightfield truth = sampled(150, 170, 1.0, surface);
+    const Heightfield truth = sampled_field(150, 170, 1.0, surface);
     Heightfield holes = truth;
     punch_disk(holes, 75.0, 85.0, 35.0);
     for (FillMethod method : {FillMethod::harmonic, FillMethod::biharmonic}) {
@@ -190,7 +184,7 @@ TEST(FillMissing, PeriodicTilingFillsAcrossTheWrap) {
     const HeightFunction periodic = [](double x, double y) {
         return std::sin(kTwoPi * x / 64.0) + 0.5 * std::cos(kTwoPi * y / 48.0);
     };
-    const Heightfield truth = sampled(48, 64, 1.0, periodic);
+    const Heightfield truth = sampled_field(48, 64, 1.0, periodic);
     Heightfield holes = truth;
     punch_rectangle(holes, 10, 0, 12, 4);
     punch_rectangle(holes, 10, 60, 12, 4);
@@ -210,7 +204,7 @@ TEST(FillMissing, PeriodicTilingFillsAcrossTheWrap) {
 TEST(FillMissing, ResultIsIdenticalForAnyThreadCount) {
     // One hole above the parallel chunk size (40 000 unknowns) and many small ones.
     const HeightFunction surface = [](double x, double y) { return std::sin(0.05 * x) * std::cos(0.07 * y); };
-    Heightfield holes = sampled(260, 300, 1.0, surface);
+    Heightfield holes = sampled_field(260, 300, 1.0, surface);
     punch_rectangle(holes, 20, 30, 200, 200);
     for (int k = 0; k < 200; ++k) punch_disk(holes, (k * 71) % 260, 240 + (k * 13) % 60, 1.5);
     std::vector<Heightfield> results;
@@ -254,7 +248,7 @@ TEST(FillMissing, CsafeScanWithDropOutsIsFilledCompletely) {
 }
 
 TEST(FillMissing, RecordsItsStepAndRejectsHopelessInput) {
-    Heightfield field = sampled(8, 11, 1.0, [](double x, double) { return x; });
+    Heightfield field = sampled_field(8, 11, 1.0, [](double x, double) { return x; });
     field.at(3, 4) = kNaN;
     const FillReport report = fill_missing(field);
     EXPECT_EQ(report.filled_points, 1u);
@@ -276,7 +270,7 @@ TEST(FillMissing, RecordsItsStepAndRejectsHopelessInput) {
 TEST(RemoveForm, ExactPlaneLeavesZero) {
     // A tilted plane on a non-square grid with drop-outs; y is map-view (up).
     const HeightFunction plane = [](double x, double y) { return 3.0 + 0.01 * x - 0.02 * y; };
-    Heightfield field = sampled(37, 53, 0.7, plane);
+    Heightfield field = sampled_field(37, 53, 0.7, plane);
     field.at(5, 7) = kNaN;
     field.at(30, 50) = kNaN;
     const FormReport report = remove_form(field, 1);
@@ -313,7 +307,7 @@ TEST(RemoveForm, PolynomialOfOrderNIsRemovedByOrderNButNotByOrderNMinusOne) {
                 for (int j = 0; i + j <= order; ++j) sum += a[k++] * std::pow(x / 40.0, i) * std::pow(y / 30.0, j);
             return sum;
         };
-        const Heightfield original = sampled(48, 64, 1.0, polynomial);
+        const Heightfield original = sampled_field(48, 64, 1.0, polynomial);
         Heightfield exact = original;
         const FormReport report = remove_form(exact, order);
         EXPECT_EQ(report.terms.size(), static_cast<std::size_t>((order + 1) * (order + 2) / 2));
@@ -326,7 +320,7 @@ TEST(RemoveForm, PolynomialOfOrderNIsRemovedByOrderNButNotByOrderNMinusOne) {
 
 TEST(RemoveForm, KeepsTheMicrogeometry) {
     // A checkerboard ±0.1 µm on a plane: removing the plane leaves the checkerboard.
-    Heightfield field = sampled(40, 50, 1.0, [](double x, double y) { return 2.0 + 0.05 * x + 0.01 * y; });
+    Heightfield field = sampled_field(40, 50, 1.0, [](double x, double y) { return 2.0 + 0.05 * x + 0.01 * y; });
     for (int r = 0; r < field.rows; ++r)
         for (int c = 0; c < field.cols; ++c) field.at(r, c) += (r + c) % 2 ? 0.1f : -0.1f;
     const FormReport report = remove_form(field, 1);
@@ -337,7 +331,7 @@ TEST(RemoveForm, KeepsTheMicrogeometry) {
 }
 
 TEST(RemoveForm, RejectsBadOrdersAndUndeterminedFits) {
-    Heightfield field = sampled(10, 12, 1.0, [](double x, double y) { return x + y; });
+    Heightfield field = sampled_field(10, 12, 1.0, [](double x, double y) { return x + y; });
     EXPECT_THROW(remove_form(field, -1), Error);
     EXPECT_THROW(remove_form(field, kMaxFormOrder + 1), Error);
     // Only one row of valid points: no slope in y can be fitted.
@@ -356,7 +350,7 @@ TEST(RemoveForm, RejectsBadOrdersAndUndeterminedFits) {
 // ---- crop -----------------------------------------------------------------------------------
 
 TEST(Crop, SamplesGiveTheExactSubGridAtShiftedPositions) {
-    const Heightfield original = sampled(23, 31, 0.4, [](double x, double y) { return x * 100.0 + y; });
+    const Heightfield original = sampled_field(23, 31, 0.4, [](double x, double y) { return x * 100.0 + y; });
     Heightfield field = original;
     const CropReport report = crop_samples(field, 5, 7, 11, 13);
     ASSERT_EQ(field.rows, 11);
@@ -377,7 +371,7 @@ TEST(Crop, SamplesGiveTheExactSubGridAtShiftedPositions) {
 
 TEST(Crop, MicrometreRegionIsMeasuredFromTheLowerLeftCorner) {
     // 741×419 samples of 0.645 µm, like the CSAFE scan.
-    const Heightfield original = sampled(419, 741, 0.645, [](double x, double y) { return x - 2.0 * y; });
+    const Heightfield original = sampled_field(419, 741, 0.645, [](double x, double y) { return x - 2.0 * y; });
     Heightfield field = original;
     const CropReport report = crop(field, {10.0, 20.0, 100.0, 50.0});
     // Edges snap to texel boundaries: round(10/0.645) = 16, round(110/0.645) = 171, etc.
@@ -448,7 +442,7 @@ double periodic_surface_area_mean(double x, double y, double a) {
 }
 
 TEST(Resample, UpsamplingMatchesTheAnalyticSurface) {
-    Heightfield field = sampled(48, 64, 1.0, periodic_surface);
+    Heightfield field = sampled_field(48, 64, 1.0, periodic_surface);
     const ResampleReport report = resample(field, 0.4, Tiling::periodic);
     EXPECT_FALSE(report.prefiltered);
     ASSERT_EQ(field.cols, 160);
@@ -464,7 +458,7 @@ TEST(Resample, UpsamplingMatchesTheAnalyticSurface) {
 }
 
 TEST(Resample, DownsamplingGivesTheAreaMeanOfTheSurface) {
-    Heightfield field = sampled(96, 128, 0.5, periodic_surface);
+    Heightfield field = sampled_field(96, 128, 0.5, periodic_surface);
     const ResampleReport report = resample(field, 2.0, Tiling::periodic);
     EXPECT_TRUE(report.prefiltered);
     ASSERT_EQ(field.cols, 32);
@@ -493,7 +487,7 @@ TEST(Resample, DownsamplingDoesNotAliasDetailTheCoarseGridCannotHold) {
 TEST(Resample, KeepsTheExtentCentredAndTheSurfaceInPlace) {
     // A ramp h = x − 0.5 y on the CSAFE grid (741×419 of 0.645 µm) to 1 µm: 478×270 samples,
     // each within half a texel of the old extent, and the ramp read at the right positions.
-    Heightfield field = sampled(419, 741, 0.645, [](double x, double y) { return x - 0.5 * y; });
+    Heightfield field = sampled_field(419, 741, 0.645, [](double x, double y) { return x - 0.5 * y; });
     const double width = field.width_um(), height = field.height_um();
     const ResampleReport report = resample(field, 1.0);
     EXPECT_EQ(report.tiling, Tiling::none);
@@ -516,7 +510,7 @@ TEST(Resample, KeepsTheExtentCentredAndTheSurfaceInPlace) {
 TEST(Resample, OpenBordersContinueTheTrendInsteadOfWrapping) {
     // A non-periodic ramp: wrapping mixes the high right edge into the low left one, point
     // reflection about the border samples continues the ramp.
-    const Heightfield ramp = sampled(20, 50, 1.0, [](double x, double) { return x; });
+    const Heightfield ramp = sampled_field(20, 50, 1.0, [](double x, double) { return x; });
     Heightfield open = ramp;
     Heightfield wrapped = ramp;
     resample(open, 0.5, Tiling::none);
@@ -529,7 +523,7 @@ TEST(Resample, OpenBordersContinueTheTrendInsteadOfWrapping) {
 }
 
 TEST(Resample, SameTexelKeepsTheSamples) {
-    const Heightfield original = sampled(33, 47, 0.8, [](double x, double y) { return std::sin(x) * std::cos(y); });
+    const Heightfield original = sampled_field(33, 47, 0.8, [](double x, double y) { return std::sin(x) * std::cos(y); });
     Heightfield field = original;
     resample(field, 0.8);
     ASSERT_EQ(field.size(), original.size());
@@ -556,7 +550,7 @@ TEST(Resample, RejectsBadTexelsAndMissingPoints) {
 // ---- the steps together ----------------------------------------------------------------------
 
 TEST(Prepare, StepsAreNumberedInTheOrderApplied) {
-    Heightfield field = sampled(40, 60, 1.0, [](double x, double y) { return 0.1 * x + 0.2 * y; });
+    Heightfield field = sampled_field(40, 60, 1.0, [](double x, double y) { return 0.1 * x + 0.2 * y; });
     field.at(20, 30) = kNaN;
     crop_samples(field, 2, 3, 30, 40);
     fill_missing(field);

@@ -28,9 +28,33 @@ TEST(Validate, AFlatMirrorAgreesToTheKernelBlurAndEveryRowIsReported) {
         EXPECT_LT(row.comparison.relative_l2, 0.01);
         EXPECT_EQ(row.comparison.peak_offset_pixels, 0.0);
     }
-    const nlohmann::json report = nlohmann::json::parse(validation_json(plan, rows));
+    const nlohmann::json report = nlohmann::json::parse(validation_json(plan, rows, "glintscope validate ..."));
     EXPECT_EQ(report["rows"].size(), rows.size());
     EXPECT_TRUE(report["rows"][0]["relative_l2"].is_number());
+    EXPECT_EQ(report["footprint_centres_um"].size(), 4u);
+    EXPECT_EQ(report["models"].size(), 2u);
+    EXPECT_EQ(report["command_line"], "glintscope validate ...");
+
+    // The summary is the mean and the worst of its rows over the footprints.
+    const std::vector<ValidationSummary> summary = summarize_validation(rows);
+    ASSERT_EQ(summary.size(), 2u * 2u);  // models × wavelengths (one K)
+    EXPECT_EQ(report["summary"].size(), summary.size());
+    for (const ValidationSummary& s : summary) {
+        double sum = 0.0, worst = 0.0, energy = 0.0;
+        int count = 0;
+        for (const ValidationRow& row : rows)
+            if (row.model == s.model && row.comparison.wavelength_um == s.wavelength_um) {
+                sum += row.comparison.relative_l2;
+                worst = std::max(worst, row.comparison.relative_l2);
+                energy += row.comparison.energy_ratio();
+                ++count;
+            }
+        EXPECT_EQ(count, 4);
+        EXPECT_EQ(s.footprints, 4u);
+        EXPECT_NEAR(s.mean_relative_l2, sum / count, 1e-15);
+        EXPECT_EQ(s.worst_relative_l2, worst);
+        EXPECT_NEAR(s.mean_energy_ratio, energy / count, 1e-15);
+    }
 }
 
 TEST(Validate, GaborMeetsItsDocumentedBoundOnTheIsotropicBuiltin) {

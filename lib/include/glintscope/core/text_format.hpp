@@ -1,6 +1,6 @@
 #pragma once
-// Numbers and strings as text for metadata, headers, messages and JSON, written and read one
-// way everywhere.
+// Numbers and strings as text for metadata, headers and messages, written and read one way
+// everywhere (JSON is written with nlohmann::json).
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -33,11 +33,5 @@ std::uint64_t parse_unsigned(std::string_view text);
 
 // Comma-separated finite numbers ("0.5,0.6"); throws Error otherwise.
 std::vector<double> parse_number_list(std::string_view text);
-
-// A JSON string literal with quotes and escapes.
-std::string json_string(const std::string& text);
-
-// A JSON number, or null for NaN and infinities (JSON has neither).
-std::string json_number(double value);
 
 }  // namespace glintscope

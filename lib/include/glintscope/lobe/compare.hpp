@@ -1,6 +1,7 @@
 #pragma once
 // Comparing two images of the same query (e.g. gabor against the fft ground truth, a wave lobe
 // against the geometric one): the numbers `validate` reports and the tests assert.
+#include <span>
 #include <vector>
 
 #include "glintscope/lobe/image.hpp"
@@ -27,5 +28,13 @@ struct LayerComparison {
 
 // Per layer; throws Error when the images differ in resolution, quantity or wavelengths.
 std::vector<LayerComparison> compare_lobes(const LobeImage& test, const LobeImage& reference);
+
+// One layer of two N×N images in LobeImage's layout (row-major, row 0 at the top), for layers
+// that are not wavelengths (the R, G, B channels of a colour EXR). wavelength_um is left 0.
+LayerComparison compare_layer(std::span<const float> test, std::span<const float> reference, int resolution);
+
+// test − reference, per pixel and layer, with the test's metadata and method "TEST - REFERENCE"
+// (a signed image: figure.hpp draws it on a diverging scale). Throws as compare_lobes.
+LobeImage difference_image(const LobeImage& test, const LobeImage& reference);
 
 }  // namespace glintscope

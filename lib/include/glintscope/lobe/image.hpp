@@ -7,6 +7,7 @@
 // Colour, output and comparison code depend on this header only, not on queries or surfaces.
 #include <cstddef>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,14 @@ struct LobeImage {
         return values[(layer * resolution + row) * static_cast<std::size_t>(resolution) + col];
     }
 };
+
+// One layer's N×N values, row-major.
+std::span<const float> layer_values(const LobeImage& image, std::size_t layer);
+
+// Σ value (2/N)² over the pixels inside the unit disk, in row-major order: the albedo
+// ∫ f_r cos θ_o dω_o of a BRDF layer, the normalisation (1) of an NDF (see above).
+double disk_sum(std::span<const float> layer, int resolution);
+double disk_sum(const LobeImage& image, std::size_t layer = 0);
 
 // A zero image with one layer per wavelength.
 LobeImage make_lobe_image(int resolution, const std::vector<double>& wavelengths_um,

@@ -26,6 +26,7 @@ struct MethodInfo {
     std::vector<MethodOption> options;
     bool wave_optics = false;          // its lobes carry the coherence blur λ/(2πσ_c)
     bool whole_field = false;          // it answers FootprintShape::whole
+    bool exact_pixels = false;         // it can integrate pixels exactly (supersample exact, its automatic choice)
 
     bool answers(Quantity quantity) const;
     bool ignores(QueryField field) const;

@@ -32,6 +32,10 @@ struct HeightfieldSource {
     std::string content_md5;  // of the file's bytes, filled by make_query (empty for builtins)
 };
 
+// LobeQuery::supersample for a method that integrates each pixel exactly (the geometric lobe over
+// its tabulated NDF) instead of averaging K×K point samples.
+constexpr int kExactPixels = -1;
+
 struct LobeQuery {
     std::shared_ptr<const Heightfield> field;
     std::shared_ptr<const BicubicInterpolant> surface;  // of `field`; built by set_heightfield
@@ -44,7 +48,8 @@ struct LobeQuery {
     DiffractionModel model = DiffractionModel::rohs;
     MaterialChoice material;
     int resolution = 256;                 // N of the N×N projected-disk image
-    int supersample = 0;                  // K×K sub-pixel average (geometry.hpp); 0: the pipeline chooses
+    int supersample = 0;                  // K×K sub-pixel average (geometry.hpp); 0: the pipeline chooses;
+                                          // kExactPixels: pixels integrated exactly (MethodInfo::exact_pixels)
     double memory_budget_gb = 4.0;        // for a method's working grids (the FFT's footprint grid)
     // Method-specific settings by name (e.g. "kernels_per_texel" for gabor, "step" for fft);
     // compute_lobe rejects keys the method does not declare.

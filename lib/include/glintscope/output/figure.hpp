@@ -47,8 +47,37 @@ void write_height_picture(const Heightfield& field, const std::string& path, Col
 // The pixel size of a panel for an image of `resolution` (the same for every panel of a figure).
 int panel_size(int resolution);
 
+// A square of picture pixels: top-left corner (x right, y down) and side.
+struct PixelSquare {
+    int x = 0;
+    int y = 0;
+    int size = 0;
+};
+
+// Where a written figure put things: its size and, per cell [row][column], the square its image's
+// disk fills (panel_size(resolution) pixels, image pixel (r, c) zoomed by size/resolution).
+struct FigureLayout {
+    int width = 0;
+    int height = 0;
+    std::vector<std::vector<PixelSquare>> disks;
+};
+
 // Writes the figure atomically; throws Error for an empty or ragged grid or mixed resolutions.
-void write_figure(const Figure& figure, const std::string& path, const LobeOutputOptions& options);
+FigureLayout write_figure(const Figure& figure, const std::string& path, const LobeOutputOptions& options);
+
+// One row: test | reference | test − reference (compare.hpp: difference_image). The two inputs
+// share one exposure; the difference, for a single-layer image only (a spectrum has no one
+// signed picture), is drawn on its own diverging scale, symmetric about 0, with a colour bar in
+// the quantity's units. Throws Error for images compare_lobes refuses.
+struct DifferenceFigure {
+    std::string title;
+    std::string caption;  // a line under the row
+    std::string test_label;
+    std::string reference_label;
+    std::string difference_label;
+};
+FigureLayout write_difference_figure(const LobeImage& test, const LobeImage& reference, const DifferenceFigure& labels,
+                                     const std::string& path, const LobeOutputOptions& options);
 
 // The exposure a set of images shares: the auto (or given) exposure of the brightest.
 DisplayExposure shared_exposure(const std::vector<const LobeImage*>& images, const ColourSettings& settings);

@@ -21,6 +21,7 @@
 //
 // JSON sidecar: the metadata, the wavelengths, the colour settings and exposure, and per
 // wavelength the peak value with its pixel and direction and the albedo Σ f_r (2/N)².
+#include <span>
 #include <string>
 #include <vector>
 
@@ -67,9 +68,31 @@ double recorded_exposure_ev(const std::string& json_path);
 // By the extension of `path`: .exr, .png or .json; anything else throws Error.
 void write_lobe(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options);
 
-// Reads an EXR written by write_lobe_exr back: the "Y" channel, or the per-wavelength channels
-// of a spectral lobe (an RGB-only file cannot be read back and throws Error). Values and
-// metadata come back exactly; the writer's "output." attributes are not part of the metadata.
+// The layers of an EXR written by write_lobe_exr, as they can be compared: one per wavelength
+// (the "Y" or "D" channel, or a spectral lobe's S0.<nm> channels) or, for a spectral lobe
+// written without per-wavelength channels, its R, G and B channels.
+struct LobeExrLayers {
+    int resolution = 0;
+    Quantity quantity = Quantity::brdf;
+    std::vector<double> wavelengths_um;  // the lobe's, as recorded
+    Provenance metadata;                 // without the writer's "output." attributes
+    bool colour = false;                 // the layers are R, G, B, not wavelengths
+    std::string colour_encoding;         // when colour: the recorded colour space and illuminant
+    std::vector<std::string> names;      // per layer: "0.5 um", or "R", "G", "B"
+    std::vector<float> values;           // [layer][row][col]
+
+    std::size_t layers() const { return names.size(); }
+    std::span<const float> layer(std::size_t k) const {
+        const std::size_t pixels = std::size_t(resolution) * resolution;
+        return std::span<const float>(values).subspan(k * pixels, pixels);
+    }
+};
+LobeExrLayers load_lobe_exr_layers(const std::string& path);
+
+// Reads an EXR written by write_lobe_exr back: the "Y" or "D" channel, or the per-wavelength
+// channels of a spectral lobe (an RGB-only file throws Error; load_lobe_exr_layers reads it).
+// Values and metadata come back exactly; the writer's "output." attributes are not part of the
+// metadata.
 LobeImage load_lobe_exr(const std::string& path);
 
 }  // namespace glintscope

@@ -41,9 +41,6 @@ using PairCallback = std::function<void(const ValidationRow& row, const LobeImag
 std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress = {},
                                           const PairCallback& pair = {});
 
-// test − reference, per pixel and layer (a signed image: figure.hpp draws it on a diverging scale).
-LobeImage difference_image(const LobeImage& test, const LobeImage& reference);
-
 // Convergence of the two methods at the plan's first centre, model and wavelength:
 // - Gabor against the FFT ground truth as the kernels per texel K go 1, 2, 3, 4;
 // - the FFT against itself at a quarter of its automatic step, as the step goes from twice the
@@ -56,9 +53,32 @@ struct ConvergencePoint {
 std::vector<ConvergencePoint> run_convergence(const ValidationPlan& plan, const ProgressCallback& progress = {});
 std::string convergence_csv(const std::vector<ConvergencePoint>& points);
 
-// The rows as CSV (one header line, then one line per row) and as a JSON report (the plan's
-// base query keys, then the rows; numbers as JSON numbers).
+// The verdict over footprints: per model × K × wavelength, the mean and the worst relative L2 and
+// peak error over the footprints, and the mean energy ratio (test albedo / reference albedo),
+// in order of first appearance in the rows.
+struct ValidationSummary {
+    DiffractionModel model = DiffractionModel::rohs;
+    int kernels_per_texel = 0;
+    double wavelength_um = 0.0;
+    std::size_t footprints = 0;
+    double mean_relative_l2 = 0.0;
+    double worst_relative_l2 = 0.0;
+    double mean_peak_error = 0.0;
+    double worst_peak_error = 0.0;
+    double mean_energy_ratio = 0.0;
+};
+std::vector<ValidationSummary> summarize_validation(const std::vector<ValidationRow>& rows);
+
+// What every column means, one line each ("name: meaning"), for --help, the report and docs.
+const std::vector<std::string>& validation_column_definitions();
+
+// The rows as CSV (one header line, then one line per row), the summary as CSV, and a JSON report
+// that describes itself: format, version, command line, methods, the base query keys, every model,
+// K, footprint centre and wavelength run, the column definitions, the summary, then the rows (each
+// with its picture's file name when `pictures` names one per row's pair: pair-N.png).
 std::string validation_csv(const std::vector<ValidationRow>& rows);
-std::string validation_json(const ValidationPlan& plan, const std::vector<ValidationRow>& rows);
+std::string validation_summary_csv(const std::vector<ValidationSummary>& summary);
+std::string validation_json(const ValidationPlan& plan, const std::vector<ValidationRow>& rows,
+                            const std::string& command_line = "", const std::vector<std::string>& pictures = {});
 
 }  // namespace glintscope

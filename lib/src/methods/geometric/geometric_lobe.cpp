@@ -46,11 +46,15 @@ GeometricSettings read_settings(const LobeQuery& query) {
 
 DiskTable density_table(const LobeQuery& query, const GeometricSettings& settings) {
     DiskTable table;
-    // A table cell's albedo factor (ω_i·h)/h_z is taken at its centre, wherever in the cell its
-    // mass lies: off by up to tanθ_i/N_table relatively (a mirror's single normal). 200 tanθ_i
-    // cells across keep that within 0.5% (80°: 1134).
-    const double tan_i = std::sqrt(std::max(0.0, 1.0 - query.omega_i.z * query.omega_i.z)) / query.omega_i.z;
-    table.resolution = std::min(std::max(query.resolution * settings.ndf_oversampling, int(std::ceil(200.0 * tan_i))), 8192);
+    table.resolution = query.resolution * settings.ndf_oversampling;
+    if (query.supersample == kExactPixels) {
+        // A table cell's albedo factor (ω_i·h)/h_z is taken at its centre, wherever in the cell its
+        // mass lies: off by up to tanθ_i/N_table relatively (a mirror's single normal). 200 tanθ_i
+        // cells across keep that within 0.5% (80°: 1134).
+        const double tan_i = std::sqrt(std::max(0.0, 1.0 - query.omega_i.z * query.omega_i.z)) / query.omega_i.z;
+        table.resolution = std::max(table.resolution, int(std::ceil(200.0 * tan_i)));
+    }
+    table.resolution = std::min(table.resolution, 8192);
     // The tolerance is in lobe pixels: the lobe, not the finer internal table, is what must not move.
     NormalDensitySettings density = settings.density;
     density.tolerance_pixels *= static_cast<double>(table.resolution) / query.resolution;
@@ -178,7 +182,8 @@ void deposit_polygon(const SmallPolygon& polygon, double mass, int resolution, s
     }
 }
 
-// The lobe integrated over its pixels exactly, for the piecewise-constant NDF table: by Dong 2015
+// The lobe integrated over its pixels exactly (supersample exact, the default), for the
+// piecewise-constant NDF table: by Dong 2015
 // eq. 1 with dω_o = 4 (ω_i·h) dω_h and dA_h = h_z dω_h, a table cell of density D and disk area
 // A carries albedo F D G (ω_i·h)/(cosθ_i h_z)·A, reflected into the image of the cell under
 // h ↦ ω_o = 2(ω_i·h)h − ω_i; that image (its corners' quadrilateral) is spread over the lobe's
@@ -260,11 +265,21 @@ LobeImage geometric_lobe(const LobeQuery& query) {
     for (std::size_t l = 0; l < query.wavelengths_um.size(); ++l) {
         const ComplexIndex eta =
             has_material ? complex_refractive_index(query.material.name, query.wavelengths_um[l]) : ComplexIndex{};
-        const std::vector<double> values = pixel_integrated_lobe(density, omega_i, query.resolution, [&](Vec3 h, Vec3 omega_o) {
-            const double fresnel = has_material ? fresnel_conductor(eta, dot(omega_i, h)) : 1.0;
-            return fresnel * shadowing({omega_o.x, omega_o.y}, omega_o, h);
+        const auto fresnel = [&](Vec3 h) { return has_material ? fresnel_conductor(eta, dot(omega_i, h)) : 1.0; };
+        if (query.supersample == kExactPixels) {
+            const std::vector<double> values = pixel_integrated_lobe(density, omega_i, query.resolution, [&](Vec3 h, Vec3 omega_o) {
+                return fresnel(h) * shadowing({omega_o.x, omega_o.y}, omega_o, h);
+            });
+            std::copy(values.begin(), values.end(), image.values.begin() + l * values.size());
+            continue;
+        }
+        // Point samples of f_r (what a BSDF query evaluates), K×K per pixel.
+        fill_by_direction(image, l, query.supersample, [&](DiskPoint p) {
+            const Vec3 omega_o = direction_from_disk(p.x, p.y);
+            const Vec3 h = normalize(omega_i + omega_o);
+            return fresnel(h) * density.at(h.x, h.y) * shadowing(p, omega_o, h) /
+                   (4.0 * omega_i.z * omega_o.z);  // Dong 2015 eq. 1
         });
-        std::copy(values.begin(), values.end(), image.values.begin() + l * values.size());
     }
     image.metadata["geometric.ndf"] = settings.filtered ? "filtered" : "pndf";
     image.metadata["geometric.shadowing"] = method_option_text(query, "shadowing", "none");
@@ -287,7 +302,7 @@ MethodEntry geometric_method() {
     entry.info.description = "microfacet lobe F D G / (4 cos cos) with D the exact P-NDF or the filtered NDF";
     entry.info.reference = "Dong 2015 eq. 1";
     entry.info.quantities = {Quantity::brdf};
-    entry.info.ignored = {QueryField::model, QueryField::supersample};  // pixels integrated exactly
+    entry.info.ignored = {QueryField::model};
     entry.info.options = {{"ndf", "pndf or filtered (default pndf)"},
                           {"shadowing", "none, smith (Smith G1(i) G1(o) of the measured NDF) or ellipsoid (Dong 2015 eq. 13-14 "
                                         "of the ellipsoid fitted to it) (default none)"},
@@ -295,6 +310,7 @@ MethodEntry geometric_method() {
                           {"filter_sigma", "plane-fit window sigma_f of the filtered NDF, a length (default 1um)"}};
     for (const MethodOption& option : normal_density_options()) entry.info.options.push_back(option);
     entry.info.whole_field = true;
+    entry.info.exact_pixels = true;
     entry.compute = geometric_lobe;
     return entry;
 }

@@ -22,7 +22,6 @@
 namespace glintscope {
 namespace {
 
-using testing::disk_sum;
 using testing::second_moment;
 
 LobeQuery query_for(Heightfield field, Quantity quantity, int resolution) {

@@ -17,6 +17,8 @@
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/core/text_format.hpp"
 
+#include "lobe_queries.hpp"
+
 namespace glintscope {
 namespace {
 
@@ -33,12 +35,6 @@ LobeQuery query_for(Heightfield field, double sigma_um, double lambda_um, int re
     query.supersample = 1;  // pixel centres: where the closed forms below are evaluated
     set_heightfield(query, std::move(field));
     return query;
-}
-
-double albedo(const LobeImage& image) {
-    double sum = 0.0;
-    for (float value : image.values) sum += value;
-    return sum * disk_pixel_area(image.resolution);
 }
 
 Vec3 pixel_direction(int row, int col, int resolution) {
@@ -108,7 +104,7 @@ TEST(FftLobe, FlatMirrorIsTheTransformOfTheCoherenceWindow) {
                     worst = std::max(worst, std::fabs(image.at(0, r, c) - gaussian_window_lobe_at_pixel(query, r, c)));
             // The window is cut at ±4σ_c, which leaves e^{−8}-level ripples (~2e-4 of the peak).
             EXPECT_LT(worst / peak, 1e-3) << to_string(model) << " theta_i " << std::acos(omega_i.z);
-            EXPECT_NEAR(albedo(image), 1.0, 0.005) << to_string(model) << " theta_i " << std::acos(omega_i.z);
+            EXPECT_NEAR(disk_sum(image), 1.0, 0.005) << to_string(model) << " theta_i " << std::acos(omega_i.z);
         }
 }
 
@@ -128,7 +124,7 @@ TEST(FftLobe, FlatMirrorAlbedoIsTheFresnelReflectance) {
     LobeQuery query = flat_mirror_query(DiffractionModel::rohs, kOblique);
     query.material.name = "Au";
     const double expected = fresnel_reflectance("Au", 0.5, kOblique.z);
-    EXPECT_NEAR(albedo(compute_lobe("fft", query)) / expected, 1.0, 0.005);
+    EXPECT_NEAR(disk_sum(compute_lobe("fft", query)) / expected, 1.0, 0.005);
 }
 
 TEST(FftLobe, SupersamplingAveragesExactSubpixelValues) {
@@ -331,12 +327,7 @@ TEST(FftLobe, ResultDoesNotDependOnTheThreadCount) {
     query.model = DiffractionModel::kirchhoff;
     query.omega_i = kOblique;
     query.supersample = 2;
-    set_thread_count(1);
-    const LobeImage single = compute_lobe("fft", query);
-    set_thread_count(2);
-    const LobeImage dual = compute_lobe("fft", query);
-    set_thread_count(0);
-    EXPECT_EQ(single.values, dual.values);
+    EXPECT_EQ(testing::compute_with_threads("fft", query, 1).values, testing::compute_with_threads("fft", query, 2).values);
 }
 
 TEST(FftLobe, RejectsBadOptions) {

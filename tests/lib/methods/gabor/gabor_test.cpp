@@ -20,6 +20,8 @@
 #include "glintscope/optics/material.hpp"
 #include "glintscope/core/parallel.hpp"
 
+#include "lobe_queries.hpp"
+
 namespace glintscope {
 namespace {
 
@@ -137,9 +139,7 @@ double flat_mirror_albedo(DiffractionModel model, double sigma_um, int resolutio
     query.supersample = supersample;
     query.model = model;
     const LobeImage image = compute_lobe("gabor", query);
-    double albedo = 0.0;
-    for (const float value : image.values) albedo += value * disk_pixel_area(query.resolution);
-    return albedo / fresnel_reflectance("Al", 0.5, query.omega_i.z);
+    return disk_sum(image) / fresnel_reflectance("Al", 0.5, query.omega_i.z);
 }
 
 TEST(GaborLobe, FlatMirrorReflectsFresnelReflectance) {
@@ -348,12 +348,9 @@ TEST(GaborLobe, IdenticalForAnyThreadCount) {
         LobeQuery query = isotropic_query(64);
         query.model = model;
         query.omega_i = direction_from_spherical(0.3, 1.0);
-        set_thread_count(1);
-        const LobeImage one = compute_lobe("gabor", query);
-        set_thread_count(3);
-        const LobeImage three = compute_lobe("gabor", query);
-        set_thread_count(0);
-        EXPECT_EQ(one.values, three.values) << to_string(model);
+        EXPECT_EQ(testing::compute_with_threads("gabor", query, 1).values,
+                  testing::compute_with_threads("gabor", query, 3).values)
+            << to_string(model);
     }
 }
 

@@ -14,17 +14,14 @@
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/core/text_format.hpp"
 
+#include "sampled_field.hpp"
+#include "lobe_queries.hpp"
+
 namespace glintscope {
 namespace {
 
 Heightfield plane(double a, double b) {
-    Heightfield field = make_heightfield(64, 64, 1.0);
-    for (int r = 0; r < 64; ++r)
-        for (int c = 0; c < 64; ++c) {
-            const Point2 s = sample_position(field, r, c);
-            field.at(r, c) = static_cast<float>(a * s.x + b * s.y);
-        }
-    return field;
+    return testing::sampled_field(64, 64, 1.0, [=](double x, double y) { return a * x + b * y; });
 }
 
 // A Gaussian random field (Stam's smooth C1) with rms slope 0.1 per axis and T = 10 µm.
@@ -43,13 +40,6 @@ LobeQuery query_for(Heightfield field, int resolution) {
     query.resolution = resolution;
     set_heightfield(query, std::move(field));
     return query;
-}
-
-double albedo(const LobeImage& image, std::size_t layer = 0) {
-    double sum = 0.0;
-    const std::size_t size = static_cast<std::size_t>(image.resolution) * image.resolution;
-    for (std::size_t k = 0; k < size; ++k) sum += image.values[layer * size + k];
-    return sum * disk_pixel_area(image.resolution);
 }
 
 // A plane's NDF is one normal m: by Dong 2015 eq. 1 with G = 1 its albedo is
@@ -71,7 +61,7 @@ TEST(GeometricLobe, FlatAndTiltedPlanesReflectTheirClosedFormAlbedoAtEveryResolu
                 for (std::size_t l = 0; l < 2; ++l) {
                     const double expected = fresnel_reflectance("Au", query.wavelengths_um[l], cos_im) * cos_im /
                                             (query.omega_i.z * m.z);
-                    EXPECT_NEAR(albedo(image, l) / expected, 1.0, 0.01)
+                    EXPECT_NEAR(disk_sum(image, l) / expected, 1.0, 0.01)
                         << "slope " << a << "," << b << ", res " << resolution << ", theta " << theta_deg << ", layer " << l;
                 }
             }
@@ -96,14 +86,20 @@ TEST(GeometricLobe, IsReciprocalWithoutShadowing) {
     LobeQuery query = query_for(smooth_rough(128), 64);
     const Vec3 a = [] { const DiskPoint p = disk_pixel_point(20, 40, 64); return direction_from_disk(p.x, p.y); }();
     const Vec3 b = [] { const DiskPoint p = disk_pixel_point(35, 22, 64); return direction_from_disk(p.x, p.y); }();
-    query.omega_i = a;
-    const float forward = compute_lobe("geometric", query).at(0, 35, 22);
-    query.omega_i = b;
-    const float backward = compute_lobe("geometric", query).at(0, 20, 40);
-    EXPECT_GT(forward, 0.0f);
-    // Pixels hold f_r integrated over the pixel (exactly, for the tabulated NDF), and f_r(a, ·) over
-    // b's pixel is not f_r(b, ·) over a's: reciprocal to the lobe's variation across a pixel (0.19%).
-    EXPECT_NEAR(forward / backward, 1.0, 5e-3);
+    const auto ratio = [&](int supersample) {
+        query.supersample = supersample;
+        query.omega_i = a;
+        const float forward = compute_lobe("geometric", query).at(0, 35, 22);
+        query.omega_i = b;
+        const float backward = compute_lobe("geometric", query).at(0, 20, 40);
+        EXPECT_GT(forward, 0.0f);
+        return forward / backward;
+    };
+    // Point samples of f_r at pixel centres: exactly reciprocal.
+    EXPECT_NEAR(ratio(1), 1.0, 1e-6);
+    // Pixels integrated exactly (the default) hold f_r(a, ·) over b's pixel and f_r(b, ·) over a's:
+    // reciprocal to the lobe's variation across a pixel (0.19%).
+    EXPECT_NEAR(ratio(kExactPixels), 1.0, 5e-3);
 }
 
 TEST(GeometricLobe, SmoothRoughSurfaceReflectsAlmostAllLightAtNormalIncidence) {
@@ -112,10 +108,10 @@ TEST(GeometricLobe, SmoothRoughSurfaceReflectsAlmostAllLightAtNormalIncidence) {
     LobeQuery query = query_for(smooth_rough(128), 128);
     query.footprint.shape = FootprintShape::whole;
     query.supersample = 2;
-    const double plain = albedo(compute_lobe("geometric", query));
+    const double plain = disk_sum(compute_lobe("geometric", query));
     EXPECT_NEAR(plain, 1.0, 0.01);
     query.method_options["shadowing"] = "smith";
-    const double shadowed = albedo(compute_lobe("geometric", query));
+    const double shadowed = disk_sum(compute_lobe("geometric", query));
     RecordProperty("albedo", std::to_string(plain));
     RecordProperty("albedo_smith", std::to_string(shadowed));
     EXPECT_LE(shadowed, plain);
@@ -125,9 +121,9 @@ TEST(GeometricLobe, SmoothRoughSurfaceReflectsAlmostAllLightAtNormalIncidence) {
     // a = 1/(√2 σ tanθ), and more through the G1(ω_o) of outgoing directions nearer the horizon.
     query.omega_i = direction_from_spherical(75.0 * std::numbers::pi / 180.0, 0.0);
     query.method_options.clear();
-    const double grazing = albedo(compute_lobe("geometric", query));
+    const double grazing = disk_sum(compute_lobe("geometric", query));
     query.method_options["shadowing"] = "smith";
-    const double grazing_shadowed = albedo(compute_lobe("geometric", query));
+    const double grazing_shadowed = disk_sum(compute_lobe("geometric", query));
     const double a = 1.0 / (std::numbers::sqrt2 * 0.1 * std::tan(75.0 * std::numbers::pi / 180.0));
     const double beckmann_g1 = 1.0 / (1.0 + 0.5 * (std::erf(a) - 1.0) + std::exp(-a * a) / (2.0 * a * std::sqrt(std::numbers::pi)));
     RecordProperty("albedo_75deg", std::to_string(grazing));
@@ -178,12 +174,8 @@ TEST(GeometricLobe, SameBitsForOneAndFourThreads) {
     query.omega_i = direction_from_spherical(0.4, 1.0);
     query.supersample = 2;
     query.method_options["shadowing"] = "smith";
-    set_thread_count(1);
-    const LobeImage one = compute_lobe("geometric", query);
-    set_thread_count(4);
-    const LobeImage four = compute_lobe("geometric", query);
-    set_thread_count(0);
-    EXPECT_EQ(one.values, four.values);
+    EXPECT_EQ(testing::compute_with_threads("geometric", query, 1).values,
+              testing::compute_with_threads("geometric", query, 4).values);
 }
 
 // Both images blurred by a Gaussian of one pixel (separable, truncated at 4 px, zero outside).
