@@ -18,8 +18,10 @@ LAYERS = [
     ["wave", "normal_density", "fit"],
     ["methods"],
     ["pipeline"],
+    ["bsdf"],
     ["output"],
     ["maps", "validate", "batch"],
+    ["umbrella"],  # lib/include/glintscope/glintscope.hpp, the one include of the core API
 ]
 RANK = {name: rank for rank, names in enumerate(LAYERS) for name in names}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
@@ -30,7 +32,7 @@ def folder_of(relative):
     parts = pathlib.PurePosixPath(relative).parts
     if parts[0] == "methods" and len(parts) > 2:
         return "methods/" + parts[1]
-    return parts[0] if len(parts) > 1 else None
+    return parts[0] if len(parts) > 1 else "umbrella"
 
 
 def rank_of(folder):

@@ -7,14 +7,17 @@
 
 #include "glintscope/lobe/method_info.hpp"
 #include "glintscope/lobe/query.hpp"
+#include "lobe/point_answers.hpp"
 
 namespace glintscope {
 
 using MethodFunction = LobeImage (*)(const LobeQuery&);
+using PointFunction = PointAnswers (*)(const LobeQuery&);
 
 struct MethodEntry {
     MethodInfo info;
     MethodFunction compute = nullptr;  // answers every quantity in info.quantities
+    PointFunction point = nullptr;     // brdf for single directions; none: from the images (bsdf/)
 };
 
 // Method options as values, with defaults when absent; each throws Error naming the option.

@@ -12,46 +12,28 @@
 #include "glintscope/lobe/query.hpp"
 #include "glintscope/output/lobe_output.hpp"
 #include "glintscope/core/parallel.hpp"
+#include "method_cases.hpp"
 
 #include "lobe_queries.hpp"
 
 namespace glintscope {
 namespace {
 
-struct Case {
-    MethodInfo method;
-    Quantity quantity;
-};
+using testing::MethodCase;
 
-void PrintTo(const Case& c, std::ostream* os) { *os << c.method.name << " " << to_string(c.quantity); }
-
-std::vector<Case> cases() {
-    std::vector<Case> all;
-    for (const MethodInfo& method : lobe_methods())
-        for (Quantity quantity : method.quantities) all.push_back({method, quantity});
-    return all;
-}
-
-std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+std::string case_name(const ::testing::TestParamInfo<MethodCase>& info) {
     return info.param.method.name + "_" + to_string(info.param.quantity);
 }
 
-// The isotropic builtin (Yan 2018 Fig. 8 statistics), shared by every case.
 LobeQuery isotropic_query(Quantity quantity) {
-    static const Heightfield field = generate_builtin("isotropic");
-    LobeQuery query;
-    set_heightfield(query, field);
-    query.quantity = quantity;
-    query.footprint.centre_um = field.centre_um();
-    query.footprint.sigma_um = 10.0;
+    LobeQuery query = testing::isotropic_builtin_query(quantity);
     query.omega_i = direction_from_spherical(0.2, 0.3);
-    query.wavelengths_um = {0.45, 0.6};
     query.resolution = 48;
     query.supersample = 2;
     return query;
 }
 
-class MethodConformance : public ::testing::TestWithParam<Case> {};
+class MethodConformance : public ::testing::TestWithParam<MethodCase> {};
 
 TEST_P(MethodConformance, ImageShapeDiskAndValues) {
     const LobeQuery query = isotropic_query(GetParam().quantity);
@@ -112,7 +94,8 @@ TEST_P(MethodConformance, ResultsDoNotDependOnTheThreadCount) {
               testing::compute_with_threads(GetParam().method.name, query, 4).values);
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodConformance, ::testing::ValuesIn(cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodConformance,
+                         ::testing::ValuesIn(testing::method_cases([](Quantity) { return true; })), case_name);
 
 }  // namespace
 }  // namespace glintscope

@@ -6,6 +6,7 @@
 #include "glintscope/optics/material.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "methods/fft/fft_lobe.hpp"
+#include "normal_density/microfacet_answers.hpp"
 #include "numerics/disk_table.hpp"
 
 namespace glintscope {
@@ -67,12 +68,26 @@ LobeImage per_pixel_lobe(const LobeQuery& query, const std::vector<ComplexIndex>
     return image;
 }
 
-// Dong 2015 eq. 8 (G = 1) from D_K at a fixed λ_q, tabulated finer than the lobe.
-LobeImage fixed_lambda_lobe(const LobeQuery& query, double lambda_q, const std::vector<ComplexIndex>& indices) {
+// D_K at a fixed λ_q, tabulated finer than the lobe (option ndf_oversampling), with the grid's metadata.
+struct KirchhoffTable {
+    DiskTable table;
+    Provenance metadata;
+};
+
+KirchhoffTable kirchhoff_table(const LobeQuery& query, double lambda_q) {
     const int oversampling = method_option_integer(query, "ndf_oversampling", 2, 1, 4);
     const int table_resolution = std::min(query.resolution * oversampling, 8192);
     const LobeImage distribution = distribution_image(query, lambda_q, table_resolution);
-    const DiskTable table{table_resolution, std::vector<double>(distribution.values.begin(), distribution.values.end())};
+    KirchhoffTable result{{table_resolution, std::vector<double>(distribution.values.begin(), distribution.values.end())},
+                          distribution.metadata};
+    result.metadata["dk.ndf_resolution"] = std::to_string(table_resolution);
+    return result;
+}
+
+// Dong 2015 eq. 8 (G = 1) from the table.
+LobeImage fixed_lambda_lobe(const LobeQuery& query, double lambda_q, const std::vector<ComplexIndex>& indices) {
+    const KirchhoffTable kirchhoff = kirchhoff_table(query, lambda_q);
+    const DiskTable& table = kirchhoff.table;
     const Vec3 omega_i = query.omega_i;
     LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
     for (std::size_t layer = 0; layer < image.layers(); ++layer)
@@ -82,9 +97,15 @@ LobeImage fixed_lambda_lobe(const LobeQuery& query, double lambda_q, const std::
             const double fresnel = indices.empty() ? 1.0 : fresnel_conductor(indices[layer], dot(omega_i, h));
             return fresnel * table.at(h.x, h.y) / (4.0 * omega_i.z * omega_o.z);  // Dong 2015 eq. 8, G = 1
         });
-    image.metadata = distribution.metadata;
-    image.metadata["dk.ndf_resolution"] = std::to_string(table_resolution);
+    image.metadata = kirchhoff.metadata;
     return image;
+}
+
+std::vector<ComplexIndex> refractive_indices(const LobeQuery& query) {
+    std::vector<ComplexIndex> indices;
+    if (!query.material.name.empty())
+        for (double lambda : query.wavelengths_um) indices.push_back(complex_refractive_index(query.material.name, lambda));
+    return indices;
 }
 
 LobeImage kirchhoff_distribution(const LobeQuery& query) {
@@ -95,12 +116,19 @@ LobeImage kirchhoff_distribution(const LobeQuery& query) {
         image.metadata["not_applicable"] = "omega_i,lambda,material";  // λ_q replaces λ; an NDF has no ω_i
         return image;
     }
-    std::vector<ComplexIndex> indices;
-    if (!query.material.name.empty())
-        for (double lambda : query.wavelengths_um) indices.push_back(complex_refractive_index(query.material.name, lambda));
+    const std::vector<ComplexIndex> indices = refractive_indices(query);
     LobeImage image = lambda_q > 0.0 ? fixed_lambda_lobe(query, lambda_q, indices) : per_pixel_lobe(query, indices);
     image.metadata["dk.lambda_q_um"] = lambda_q > 0.0 ? shortest_text(lambda_q) : "per-pixel";
     return image;
+}
+
+// At a fixed λ_q the lobe is a microfacet lobe over the footprint's D_K table; per-pixel λ_q is
+// the Kirchhoff lobe itself, answered from the images.
+PointAnswers kirchhoff_point(const LobeQuery& query) {
+    const double lambda_q = lambda_q_um(query);
+    if (lambda_q == 0.0) return {};
+    return microfacet_answers({kirchhoff_table(query, lambda_q).table, refractive_indices(query), {}},
+                              query.wavelengths_um.size());
 }
 
 }  // namespace
@@ -119,6 +147,7 @@ MethodEntry dk_method() {
     for (const MethodOption& option : fft_options()) entry.info.options.push_back(option);
     entry.info.wave_optics = true;
     entry.compute = kirchhoff_distribution;
+    entry.point = kirchhoff_point;
     return entry;
 }
 

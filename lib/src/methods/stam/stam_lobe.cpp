@@ -318,13 +318,13 @@ double cd_intensity(const Evaluation& e, double xi3_value, double vx, double vy)
 
 // f_r at one outgoing direction: ξ1 (Yan 2018 Fig. 6, with F at cos θ_d = |ψ|/2 as the FFT lobe)
 // times ⟨|R̃(ψ̄/λ)|²⟩/A_c of the surface statistics.
-double stam_value(const Evaluation& e, Vec3 omega_o) {
+double stam_value(const Evaluation& e, Vec3 omega_i, Vec3 omega_o) {
     const LobeQuery& query = *e.query;
-    const Vec3 psi = query.omega_i + omega_o;
+    const Vec3 psi = omega_i + omega_o;
     const double vx = psi.x / e.lambda_um, vy = psi.y / e.lambda_um;
-    const double xi3_value = xi3(query.model, query.omega_i, omega_o);
+    const double xi3_value = xi3(query.model, omega_i, omega_o);
     const double fresnel = e.has_material ? fresnel_conductor(e.eta, 0.5 * length(psi)) : 1.0;
-    double xi1 = xi1_geometric(query.model, query.omega_i, omega_o) * fresnel / (e.lambda_um * e.lambda_um);
+    double xi1 = xi1_geometric(query.model, omega_i, omega_o) * fresnel / (e.lambda_um * e.lambda_um);
     if (query.model == DiffractionModel::kirchhoff) {
         // Stam 1999 eq. 6–8: ξ2 = 1 − ψ̄·H'/(ψ·n) integrated by parts becomes |ψ|²/(ψ·n)².
         const double by_parts = dot(psi, psi) / (psi.z * psi.z);
@@ -341,7 +341,7 @@ double stam_value(const Evaluation& e, Vec3 omega_o) {
 
 void fill_layer(const Evaluation& e, LobeImage& image, std::size_t layer) {
     fill_by_direction(image, layer, e.query->supersample,
-                      [&](DiskPoint p) { return stam_value(e, direction_from_disk(p.x, p.y)); });
+                      [&](DiskPoint p) { return stam_value(e, e.query->omega_i, direction_from_disk(p.x, p.y)); });
 }
 
 // The footprint's linear size for the σ_c ≫ T comparison: σ_c, or half a box's shorter side.
@@ -402,21 +402,51 @@ void record_surface(const StamSurface& surface, const Footprint& footprint, Lobe
     if (!warning.empty()) m["stam.warning"] = warning;
 }
 
+// One evaluation per wavelength of the query; `query` and `surface` must outlive them.
+std::vector<Evaluation> evaluations(const LobeQuery& query, const StamSurface& surface) {
+    std::vector<Evaluation> all;
+    for (double lambda : query.wavelengths_um) {
+        Evaluation e;
+        e.query = &query;
+        e.surface = &surface;
+        e.lambda_um = lambda;
+        e.has_material = !query.material.name.empty();
+        if (e.has_material) e.eta = complex_refractive_index(query.material.name, e.lambda_um);
+        all.push_back(e);
+    }
+    return all;
+}
+
+// The closed form per direction, with the query and surface it reads kept alive.
+struct StamPoint {
+    LobeQuery query;
+    StamSurface surface;
+    std::vector<Evaluation> per_wavelength;
+};
+
+PointAnswers stam_point(const LobeQuery& query) {
+    auto point = std::make_shared<StamPoint>();
+    point->query = query;
+    point->surface = stam_surface(query);
+    point->per_wavelength = evaluations(point->query, point->surface);
+    std::shared_ptr<const StamPoint> shared = point;
+    PointAnswers answers;
+    answers.eval = [shared](Vec3 omega_i, Vec3 omega_o) {
+        std::vector<double> f;
+        for (const Evaluation& e : shared->per_wavelength) f.push_back(stam_value(e, omega_i, omega_o));
+        return f;
+    };
+    return answers;
+}
+
 }  // namespace
 
 LobeImage stam_lobe(const LobeQuery& query) {
     Provenance sources;
     const StamSurface surface = stam_surface(query, &sources);
     LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
-    for (std::size_t layer = 0; layer < query.wavelengths_um.size(); ++layer) {
-        Evaluation e;
-        e.query = &query;
-        e.surface = &surface;
-        e.lambda_um = query.wavelengths_um[layer];
-        e.has_material = !query.material.name.empty();
-        if (e.has_material) e.eta = complex_refractive_index(query.material.name, e.lambda_um);
-        fill_layer(e, image, layer);
-    }
+    const std::vector<Evaluation> per_wavelength = evaluations(query, surface);
+    for (std::size_t layer = 0; layer < per_wavelength.size(); ++layer) fill_layer(per_wavelength[layer], image, layer);
     record_surface(surface, query.footprint, image);
     image.metadata.insert(sources.begin(), sources.end());
     image.metadata["stam.model"] = to_string(query.model) + (query.model == DiffractionModel::kirchhoff
@@ -438,7 +468,8 @@ MethodEntry stam_method() {
               {"period", "grating period, a length (default: the generator's)"},
               {"amplitude", "grating amplitude A, a length (default: the generator's)"}},
              true},
-            stam_lobe};
+            stam_lobe,
+            stam_point};
 }
 
 }  // namespace glintscope

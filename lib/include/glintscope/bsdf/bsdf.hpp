@@ -1,0 +1,90 @@
+#pragma once
+// Every method as a BSDF for renderers (conventions.md "Single directions"): one object per
+// footprint, material and model, built once and then queried for many directions, immutable
+// and safe to query from many threads at once. The terms of pbrt-v4 and Mitsuba 3:
+//   eval   = pbrt f,        Mitsuba eval   (f_r in sr⁻¹, without the cosine)
+//   sample = pbrt Sample_f, Mitsuba sample (ω_o, pdf per solid angle, weight f_r cosθ_o / pdf)
+//   pdf    = pbrt PDF,      Mitsuba pdf
+//   albedo = pbrt rho(ω_o)                 (∫ f_r cosθ_o dω_o)
+// Directions are in the heightfield's frame (+z the mean normal); ω_i points toward the light,
+// ω_o toward the viewer; either below the horizon gives f_r = 0 and pdf = 0.
+//
+// A method answers with its own point query and sampler where its folder supplies them
+// (docs/renderer.md lists which), otherwise from its lobe image of the footprint: the image of
+// ω_i at supersample 1, read at the pixel holding ω_o, and sampled as a piecewise-constant
+// distribution on the projected disk with the exact pdf. Such tables are made on first use of
+// an ω_i and the most recent ones are kept.
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/lobe/query.hpp"
+
+namespace glintscope {
+
+struct BsdfSample {
+    Vec3 omega_o;
+    double pdf = 0.0;            // per unit solid angle of ω_o; 0: no direction (weights 0)
+    std::vector<double> weight;  // f_r cosθ_o / pdf, one per wavelength of the query
+};
+
+class Bsdf {
+public:
+    // f_r(ω_i, ω_o) in sr⁻¹, one value per wavelength of the query.
+    std::vector<double> eval(Vec3 omega_i, Vec3 omega_o) const;
+    // ω_o from two uniforms in [0, 1), shared by all wavelengths.
+    BsdfSample sample(Vec3 omega_i, double u1, double u2) const;
+    // The density per unit solid angle with which sample() returns ω_o.
+    double pdf(Vec3 omega_i, Vec3 omega_o) const;
+    // ∫ f_r cosθ_o dω_o per wavelength: the mean of sample()'s weight.
+    std::vector<double> albedo(Vec3 omega_i) const;
+
+    const std::string& method() const;
+    const std::vector<double>& wavelengths_um() const;
+    // Whether eval is the method's own point query (else its images' pixels); albedo is then the
+    // image's disk sum at supersample 4, computed from eval.
+    bool evaluates_directly() const;
+    // Whether sample and pdf are the method's own sampler (else a pixel of its images).
+    bool samples_directly() const;
+
+    struct State;  // the method's parts and the tables (bsdf.cpp)
+    explicit Bsdf(std::shared_ptr<State> state);
+
+private:
+    std::shared_ptr<State> state_;
+};
+
+// The BSDF of `method` for the query's footprint, heightfield, wavelengths, model, material,
+// method options and resolution (of the tables); the query's ω_i and supersampling are not used.
+// Checks the query as plan_lobe does and throws Error with one line naming the problem.
+Bsdf make_bsdf(const std::string& method, const LobeQuery& query);
+
+struct NdfSample {
+    Vec3 h;
+    double pdf = 0.0;  // per unit solid angle of h: D(h) h_z for a normalised D
+};
+
+// A method's normal distribution of one footprint as a function: D(h), and h sampled by
+// projected area (pdf = D(h) h_z / ∫ D h_z dω). Same sharing and threading as Bsdf.
+class Ndf {
+public:
+    // D(h) per wavelength of the query (one value for wavelength-independent methods' copies).
+    std::vector<double> eval(Vec3 h) const;
+    NdfSample sample(double u1, double u2) const;
+    double pdf(Vec3 h) const;
+    // ∫ D(h) h_z dω_h per wavelength: 1 for a normalised NDF whose mass lies on the disk.
+    std::vector<double> normalisation() const;
+
+    struct State;
+    explicit Ndf(std::shared_ptr<const State> state);
+
+private:
+    std::shared_ptr<const State> state_;
+};
+
+// The NDF of a method that answers quantity ndf, for the query's footprint.
+Ndf make_ndf(const std::string& method, const LobeQuery& query);
+
+}  // namespace glintscope

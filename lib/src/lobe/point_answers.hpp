@@ -1,0 +1,27 @@
+#pragma once
+// What a method may answer for single directions beyond its images, for the BSDF contract
+// (glintscope/bsdf/bsdf.hpp): made once per footprint from a query (its ω_i and supersampling
+// unused), then called from many threads at once. A method without them, or a member left
+// empty, is answered from its own lobe images (bsdf/).
+#include <functional>
+#include <vector>
+
+#include "glintscope/core/geometry.hpp"
+
+namespace glintscope {
+
+struct DirectionSample {
+    Vec3 direction;    // ω_o
+    double pdf = 0.0;  // per unit solid angle of ω_o; 0: no direction (e.g. reflected below the horizon)
+};
+
+struct PointAnswers {
+    // f_r(ω_i, ω_o) per query wavelength for unit directions above the horizon: what the image
+    // holds at a pixel centre at supersample 1.
+    std::function<std::vector<double>(Vec3 omega_i, Vec3 omega_o)> eval;
+    // A sampler and its exact pdf (both or neither).
+    std::function<DirectionSample(Vec3 omega_i, double u1, double u2)> sample;
+    std::function<double(Vec3 omega_i, Vec3 omega_o)> pdf;
+};
+
+}  // namespace glintscope

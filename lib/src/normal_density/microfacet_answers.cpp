@@ -1,0 +1,57 @@
+#include "normal_density/microfacet_answers.hpp"
+
+#include <utility>
+
+#include "numerics/disk_distribution.hpp"
+
+namespace glintscope {
+namespace {
+
+struct Microfacet {
+    MicrofacetTable table;
+    DiskDistribution normals;  // h ∝ D(h) dA_h, piecewise constant over the table's pixels
+    std::size_t wavelengths = 1;
+
+    std::vector<double> eval(Vec3 omega_i, Vec3 omega_o) const {
+        const Vec3 h = normalize(omega_i + omega_o);
+        const double shadowing = table.shadowing ? table.shadowing(omega_i, omega_o, h) : 1.0;
+        const double common = table.density.at(h.x, h.y) * shadowing / (4.0 * omega_i.z * omega_o.z);  // Dong 2015 eq. 1
+        std::vector<double> f(wavelengths, common);
+        for (std::size_t k = 0; k < table.indices.size(); ++k) f[k] *= fresnel_conductor(table.indices[k], dot(omega_i, h));
+        return f;
+    }
+
+    // dω_h/dω_o = 1/(4 ω_o·h) (Walter 2007 eq. 14), and dA_h = h_z dω_h.
+    double pdf_of_reflection(Vec3 h, Vec3 omega_o) const {
+        const double cos_oh = dot(omega_o, h);
+        if (cos_oh <= 0.0) return 0.0;
+        return disk_density(normals, h.x, h.y) * h.z / (4.0 * cos_oh);
+    }
+
+    DirectionSample sample(Vec3 omega_i, double u1, double u2) const {
+        const auto point = sample_disk(normals, u1, u2);
+        if (!point) return {};
+        const Vec3 h = direction_from_disk(point->x, point->y);
+        const double cos_ih = dot(omega_i, h);
+        const Vec3 omega_o = 2.0 * cos_ih * h - omega_i;  // the mirror direction about h
+        if (cos_ih <= 0.0 || omega_o.z <= 0.0) return {};
+        return {omega_o, pdf_of_reflection(h, omega_o)};
+    }
+
+    double pdf(Vec3 omega_i, Vec3 omega_o) const { return pdf_of_reflection(normalize(omega_i + omega_o), omega_o); }
+};
+
+}  // namespace
+
+PointAnswers microfacet_answers(MicrofacetTable table, std::size_t wavelengths) {
+    auto model = std::make_shared<Microfacet>();
+    model->normals = make_disk_distribution(table.density.resolution, 1, table.density.values);
+    model->table = std::move(table);
+    model->wavelengths = wavelengths;
+    std::shared_ptr<const Microfacet> shared = model;
+    return {[shared](Vec3 i, Vec3 o) { return shared->eval(i, o); },
+            [shared](Vec3 i, double u1, double u2) { return shared->sample(i, u1, u2); },
+            [shared](Vec3 i, Vec3 o) { return shared->pdf(i, o); }};
+}
+
+}  // namespace glintscope

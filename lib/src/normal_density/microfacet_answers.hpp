@@ -1,0 +1,26 @@
+#pragma once
+// The single-direction answers (lobe/point_answers.hpp) of a microfacet lobe over a tabulated
+// NDF, f_r = F(ω_i·h) D(h) G(ω_i, ω_o) / (4 cosθ_i cosθ_o) (Dong 2015 eq. 1 and eq. 8), for the
+// methods that tabulate D once per footprint (geometric, dk): eval reads the table bilinearly
+// as their images do, and sample draws h from the table (piecewise constant over its pixels,
+// exact pdf) and reflects ω_i about it.
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "glintscope/optics/material.hpp"
+#include "lobe/point_answers.hpp"
+#include "numerics/disk_table.hpp"
+
+namespace glintscope {
+
+struct MicrofacetTable {
+    DiskTable density;                  // D(h) on the projected disk of normals
+    std::vector<ComplexIndex> indices;  // per query wavelength; empty: F = 1
+    // G(ω_i, ω_o, h); empty: 1.
+    std::function<double(Vec3 omega_i, Vec3 omega_o, Vec3 h)> shadowing;
+};
+
+PointAnswers microfacet_answers(MicrofacetTable table, std::size_t wavelengths);
+
+}  // namespace glintscope
