@@ -145,13 +145,9 @@ double reflected_fraction(const LobeQuery& query, const LobeImage& image, std::s
 
 // Which term of the method creates energy beyond the material's reflectance.
 std::string energy_source(const MethodInfo& method, const LobeQuery& query) {
-    if (!method.wave_optics) {
-        if (method.ignores(QueryField::model) && method.name == "geometric" &&
-            !query.method_options.contains("shadowing"))
-            return "without shadowing and masking (G = 1) facets facing the light reflect more than their projected "
-                   "area (option shadowing=smith)";
-        return "the method's normalisation, not the surface (check its options)";
-    }
+    if (!method.wave_optics)
+        return "a geometric model without shadowing and masking (G = 1) lets facets facing the light reflect more "
+               "than their projected area (the geometric method's option shadowing=smith adds it)";
     switch (query.model) {
         case DiffractionModel::ohs:
         case DiffractionModel::ghs:

@@ -19,6 +19,7 @@
 #include "glintscope/pipeline/pipeline.hpp"
 #include "methods/gabor/gabor.hpp"
 #include "methods/gabor/gabor_kernels.hpp"
+#include "gabor_evaluations.hpp"
 
 namespace glintscope {
 namespace {
@@ -241,13 +242,7 @@ TEST(ChirpedGaborLobe, GridEvaluationIsTheClosedFormSum) {
     query.method_options["phase_error"] = std::string("1e-3");
     for (const DiffractionModel model : {DiffractionModel::ohs, DiffractionModel::rghs, DiffractionModel::kirchhoff}) {
         query.model = model;
-        query.method_options["evaluation"] = std::string("products");
-        query.method_options["kernel_truncation"] = std::string("5");
-        const LobeImage products = compute_lobe("gabor", query);
-        query.method_options.erase("evaluation");
-        query.method_options.erase("kernel_truncation");
-        const LobeImage grid = compute_lobe("gabor", query);
-        EXPECT_LT(relative_l2(grid, products), 1e-3) << to_string(model);
+        EXPECT_LT(testing::grid_against_closed_form(query), 1e-3) << to_string(model);
     }
 }
 
