@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "glintscope/generate/generate.hpp"
 #include "glintscope/io/heightfield_io.hpp"
 #include "glintscope/prepare/prepare.hpp"
 #include "glintscope/surface/areal_parameters.hpp"
@@ -168,18 +169,26 @@ void print_iso(const Report& report) {
          "the whole-field P-NDF: glintscope ndf FILE --method pndf --footprint whole");
 }
 
+// The mean height, 0 when it is rounding noise (below 1e-6 of the height range: float heights
+// carry about 7 digits), so that a zero-mean surface reads 0 and not 3e-9 nm.
+double displayed_mean(const SurfaceStatistics& s) {
+    return std::fabs(s.mean_um) <= 1e-6 * (s.max_um - s.min_um) ? 0.0 : s.mean_um;
+}
+
 void print_text(const std::string& input, const Heightfield& field, const Report& report) {
     const SurfaceStatistics& s = report.statistics;
-    print_line("file:", input);
+    const bool builtin = input.starts_with("builtin:");
+    print_line(builtin ? "surface:" : "file:", builtin ? input + ", generated: " + kind_description(input.substr(8)) : input);
     print_line("size:", std::to_string(field.cols) + " x " + std::to_string(field.rows) + " samples (x by y)");
     print_line("texel:", format_length(field.texel_um));
     print_line("extent:", format_length(field.width_um()) + " x " + format_length(field.height_um()));
-    print_line("units:", field.units_assumed ? "ASSUMED: the file does not give them; texel 1 um and heights in um "
-                                               "unless --texel and --height-unit say otherwise"
-                                             : "from the file and options; heights in um");
+    print_line("units:", builtin                ? "exact: generated in um"
+                         : field.units_assumed ? "ASSUMED: the file does not give them; texel 1 um and heights in um "
+                                                 "unless --texel and --height-unit say otherwise"
+                                               : "from the file and options; heights in um");
     print_line("tiling:", field.periodic ? "periodic (one tile of a periodic surface)"
                                          : "non-periodic (its borders are edges; --periodic if the file tiles)");
-    print_line("mean height:", format_length(s.mean_um));
+    print_line("mean height:", format_length(displayed_mean(s)));
     print_line("min, max:", format_length(s.min_um) + ", " + format_length(s.max_um));
     print_line("rms slope x, y:", number(s.rms_slope_x) + ", " + number(s.rms_slope_y));
     print_line("correlation length:",

@@ -11,8 +11,10 @@
 #include "glintscope/pipeline/pipeline.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/output/figure.hpp"
+#include "glintscope/output/plot.hpp"
 #include "glintscope/lobe/query_keys.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "glintscope/validate/albedo.hpp"
 #include "glintscope/validate/validate.hpp"
 #include "progress.hpp"
 #include "query_flags.hpp"
@@ -33,6 +35,7 @@ struct ValidateSettings {
     std::string summary_csv;
     std::string images;
     std::string convergence;
+    std::string albedo;
     double fail_above = -1.0;
 };
 
@@ -61,29 +64,31 @@ ValidationPlan plan_of(const ValidateSettings& settings) {
 
 void print_table(const ValidationPlan& plan, const std::vector<ValidationRow>& rows) {
     std::printf("%s against %s\n", plan.test_method.c_str(), plan.reference_method.c_str());
-    std::printf("%-22s %-9s %2s %5s %9s %9s %9s %9s %8s %9s %9s\n", "centre [um]", "model", "K", "order", "lambda",
-                "rel L2", "peak err", "log err", "energy", "t test", "t ref");
+    std::printf("%-22s %-9s %2s %5s %9s %9s %9s %9s %9s %8s %9s %9s\n", "centre [um]", "model", "K", "order",
+                "lambda", "rel L2", "peak err", "log err", "smooth L2", "energy", "t test", "t ref");
     for (const ValidationRow& row : rows) {
         const LayerComparison& c = row.comparison;
         char centre[48];
         std::snprintf(centre, sizeof centre, "%.1f,%.1f", row.centre_um.x, row.centre_um.y);
-        std::printf("%-22.22s %-9s %2s %5s %9.4g %8.3f%% %8.3f%% %9.4f %8.4f %8.3fs %8.3fs\n", centre,
+        std::printf("%-22.22s %-9s %2s %5s %9.4g %8.3f%% %8.3f%% %9.4f %8.3f%% %8.4f %8.3fs %8.3fs\n", centre,
                     to_string(row.model).c_str(), row.kernels_per_texel ? std::to_string(row.kernels_per_texel).c_str() : "-",
-                    row.order ? std::to_string(row.order).c_str() : "-", c.wavelength_um, 100.0 * c.relative_l2, 100.0 * c.peak_relative_error, c.log_rms_error,
-                    c.energy_ratio(), row.test_seconds, row.reference_seconds);
+                    row.order ? std::to_string(row.order).c_str() : "-", c.wavelength_um, 100.0 * c.relative_l2,
+                    100.0 * c.peak_relative_error, c.log_rms_error, 100.0 * c.smoothed_relative_l2, c.energy_ratio(),
+                    row.test_seconds, row.reference_seconds);
     }
 }
 
 // The verdict: mean and worst over the footprints per model, K, order and wavelength.
 void print_summary(const std::vector<ValidationSummary>& summary) {
-    std::printf("\nsummary over footprints\n%-9s %2s %5s %9s %4s %9s %9s %9s %9s %8s\n", "model", "K", "order",
-                "lambda", "n", "mean L2", "worst L2", "mean peak", "worst pk", "energy");
+    std::printf("\nsummary over footprints\n%-9s %2s %5s %9s %4s %9s %9s %9s %9s %10s %10s %8s\n", "model", "K",
+                "order", "lambda", "n", "mean L2", "worst L2", "mean peak", "worst pk", "mean smL2", "worst smL2", "energy");
     for (const ValidationSummary& s : summary)
-        std::printf("%-9s %2s %5s %9.4g %4zu %8.3f%% %8.3f%% %8.3f%% %8.3f%% %8.4f\n", to_string(s.model).c_str(),
-                    s.kernels_per_texel ? std::to_string(s.kernels_per_texel).c_str() : "-",
-                    s.order ? std::to_string(s.order).c_str() : "-", s.wavelength_um,
-                    s.footprints, 100.0 * s.mean_relative_l2, 100.0 * s.worst_relative_l2, 100.0 * s.mean_peak_error,
-                    100.0 * s.worst_peak_error, s.mean_energy_ratio);
+        std::printf("%-9s %2s %5s %9.4g %4zu %8.3f%% %8.3f%% %8.3f%% %8.3f%% %9.3f%% %9.3f%% %8.4f\n",
+                    to_string(s.model).c_str(), s.kernels_per_texel ? std::to_string(s.kernels_per_texel).c_str() : "-",
+                    s.order ? std::to_string(s.order).c_str() : "-", s.wavelength_um, s.footprints,
+                    100.0 * s.mean_relative_l2, 100.0 * s.worst_relative_l2, 100.0 * s.mean_peak_error,
+                    100.0 * s.worst_peak_error, 100.0 * s.mean_smoothed_l2, 100.0 * s.worst_smoothed_l2,
+                    s.mean_energy_ratio);
 }
 
 // test | reference | test − reference (figure.hpp: write_difference_figure).
@@ -100,6 +105,43 @@ void write_pair(const std::string& directory, std::size_t index, const Validatio
                             directory + "/pair-" + std::to_string(index) + ".png", options);
 }
 
+// The albedo of the test and reference methods against incidence, for --models (default rohs and
+// kirchhoff: the default model and the one that keeps energy), beside the material's F.
+void run_albedo(const ValidateSettings& settings, const ValidationPlan& plan) {
+    if (!settings.report.empty() || !settings.summary_csv.empty() || !settings.images.empty() ||
+        !settings.convergence.empty() || settings.fail_above >= 0.0)
+        throw Error("--albedo draws its plot (and --csv its numbers) only: drop --report, --summary-csv, --images, "
+                    "--convergence and --fail-above");
+    std::vector<std::string> methods = {plan.test_method};
+    if (plan.reference_method != plan.test_method) methods.push_back(plan.reference_method);
+    const std::vector<DiffractionModel> models =
+        plan.models.empty() ? std::vector{DiffractionModel::rohs, DiffractionModel::kirchhoff} : plan.models;
+    AlbedoStudy study;
+    {
+        ProgressBar progress("albedo");
+        study = albedo_versus_incidence(plan.base, methods, models, default_albedo_angles(),
+                                        [&](std::size_t done, std::size_t total, const std::string& what) {
+                                            progress.update(done, total, what);
+                                        });
+    }
+    const std::string csv = albedo_csv(study);
+    std::fputs(csv.c_str(), stdout);
+    if (!settings.csv.empty()) write_text_file(settings.csv, csv);
+    Plot plot{"Directional albedo against incidence: " + settings.heightfield, "theta_i [deg]", "albedo", {}, {}};
+    const std::vector<double>& wavelengths = study.wavelengths_um;
+    const std::string material = plan.base.material.name.empty() ? "no material (F = 1)" : plan.base.material.name;
+    plot.caption.push_back(material + ", lambda " + shortest_text(wavelengths.front() * 1e3) +
+                           (wavelengths.size() > 1 ? "-" + shortest_text(wavelengths.back() * 1e3) + " nm (mean over " +
+                                                         std::to_string(wavelengths.size()) + " wavelengths)"
+                                                   : " nm") +
+                           ", phi_i " + shortest_text(std::round(std::atan2(plan.base.omega_i.y, plan.base.omega_i.x) * 180.0 / pi * 10) / 10) +
+                           " deg");
+    plot.caption.push_back("dashed: the material's Fresnel F(theta_i), a flat mirror's albedo; a curve above it creates energy");
+    for (const AlbedoCurve& curve : study.curves) plot.series.push_back({curve_name(curve), study.theta_i_deg, band_mean(curve.albedo)});
+    plot.series.push_back({"Fresnel F", study.theta_i_deg, band_mean(study.fresnel), true});
+    write_plot(plot, settings.albedo);
+}
+
 void run(const ValidateSettings& settings) {
     if (!settings.report.empty()) check_output_path(settings.report, {"json"}, "--report");
     if (!settings.csv.empty()) check_output_path(settings.csv, {"csv"}, "--csv");
@@ -111,7 +153,10 @@ void run(const ValidateSettings& settings) {
         check_output_path(settings.images + "/pair-1.png", {"png"}, "--images");
     }
     if (!settings.convergence.empty()) check_output_path(settings.convergence, {"csv"}, "--convergence");
+    if (!settings.albedo.empty()) check_output_path(settings.albedo, {"png"}, "--albedo");
     const ValidationPlan plan = plan_of(settings);
+    if (!settings.albedo.empty()) return run_albedo(settings, plan);
+    for (const std::string& note : validation_notes(plan)) std::fprintf(stderr, "glintscope: note: %s\n", note.c_str());
     if (!settings.convergence.empty()) {
         std::vector<ConvergencePoint> points;
         {
@@ -174,7 +219,8 @@ void add_validate_command(CLI::App& app) {
         "--footprints", [settings](const std::string& value) { settings->given.emplace_back("footprints", value); },
         "Footprints, a row each: N seeded random centres, grid (3 x 3) or grid:N (N x N) (default: the query's centre)")
         ->type_name("N|grid|grid:N");
-    command->add_option("--models", settings->models, "Diffraction models, comma-separated (default rohs)")
+    command->add_option("--models", settings->models,
+                        "Diffraction models, comma-separated (default rohs; kirchhoff when one method is geometric)")
         ->type_name("LIST");
     command->add_option("--kernels-per-texel", settings->kernels_per_texel,
                         "Gabor densities K, comma-separated (default the method's, 2)")
@@ -194,6 +240,10 @@ void add_validate_command(CLI::App& app) {
     command->add_option("--convergence", settings->convergence,
                         "Instead: error against K = 1-4 (gabor vs fft) and against the FFT step, as CSV "
                         "(plot with scripts/plot-convergence.py)");
+    command->add_option("--albedo", settings->albedo,
+                        "Instead: plot the directional albedo against theta_i = 0-80 deg of the test and reference "
+                        "methods per --models (default rohs,kirchhoff) beside the material's F; --csv gets the numbers")
+        ->type_name("PLOT.png");
     command->add_option("--fail-above", settings->fail_above,
                         "Exit non-zero when any relative L2 exceeds X (e.g. 0.06), after writing the report");
     command->callback([settings] { run(*settings); });

@@ -212,5 +212,16 @@ TEST(InfoCommand, HelpShowsUnitsAndDefaults) {
         EXPECT_TRUE(contains(result.output, part)) << part << "\n" << result.output;
 }
 
+// A builtin says what it is, that its units are exact, and its zero mean reads 0 (the float sum's
+// rounding noise, ~1e-9 um, is not a height).
+TEST(InfoCommand, ABuiltinSaysWhatItIsAndItsZeroMeanIsZero) {
+    const auto result = run_cli({"info", "builtin:brushed"});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_TRUE(contains(line_of(result.output, "surface:"), "brushed metal, grooves along x")) << result.output;
+    EXPECT_TRUE(contains(line_of(result.output, "units:"), "exact")) << result.output;
+    EXPECT_FALSE(contains(result.output, "from the file")) << result.output;
+    EXPECT_EQ(line_of(result.output, "mean height:"), "mean height:           0 um") << result.output;
+}
+
 }  // namespace
 }  // namespace glintscope

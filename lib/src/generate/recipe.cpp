@@ -291,6 +291,21 @@ bool near_integer(double value) { return std::fabs(value - std::round(value)) < 
 
 std::vector<std::string> generator_kinds() { return kAllKinds; }
 
+std::string kind_description(const std::string& kind) {
+    default_recipe(kind);  // refuses unknown kinds
+    if (kind == "isotropic")
+        return "Yan 2018 Fig. 8 (left): isotropic Gaussian bumps, correlation c1, sigma_h 1.2 um, T 10 um (rms slope "
+               "0.17 per axis)";
+    if (kind == "brushed")
+        return "Yan 2018 Fig. 8 (middle): brushed metal, grooves along x, correlation c1, sigma_h 0.3 um, T 256 x 4 um "
+               "(rms slope 0.11 across, 0.002 along)";
+    if (kind == "scratched")
+        return "Yan 2018 Fig. 8 (right): random scratches, 50 per mm^2, over a weak base noise (rms slope 0.006)";
+    if (kind == "gaussian") return "a Gaussian random field with Stam 1999's correlation c1, sigma_h 0.1 um, T 10 um";
+    if (kind == "grating") return "a sinusoidal grating H = A sin(2 pi x / period), A 0.1 um, period 4 um";
+    return "a compact disc: Stam 1999 Table 1's bumps (0.15 um high, 0.5 x 1 um) on tracks 2.5 um apart";
+}
+
 Recipe default_recipe(const std::string& kind) {
     Recipe recipe;
     recipe.kind = kind;

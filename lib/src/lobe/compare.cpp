@@ -35,7 +35,39 @@ double log_rms_error(std::span<const float> test, std::span<const float> referen
     return count ? std::sqrt(sum / count) : 0.0;
 }
 
+// √(Σ (t − r)²)/√(Σ r²) over the disk's pixels.
+template <typename Values>
+double relative_l2(const Values& test, const Values& reference, int n) {
+    double difference2 = 0.0, reference2 = 0.0;
+    for (int row = 0; row < n; ++row)
+        for (int col = 0; col < n; ++col) {
+            if (!inside_unit_disk(disk_pixel_point(row, col, n))) continue;
+            const std::size_t i = std::size_t(row) * n + col;
+            difference2 += (double(test[i]) - reference[i]) * (double(test[i]) - reference[i]);
+            reference2 += double(reference[i]) * reference[i];
+        }
+    return reference2 > 0.0 ? std::sqrt(difference2 / reference2) : std::sqrt(difference2);
+}
+
 }  // namespace
+
+std::vector<double> smooth_layer(std::span<const float> layer, int n) {
+    constexpr int reach = 4;
+    double taps[2 * reach + 1];
+    double total = 0.0;
+    for (int k = -reach; k <= reach; ++k) total += taps[k + reach] = std::exp(-0.5 * k * k);
+    for (double& tap : taps) tap /= total;  // a unit-sum kernel: a blurred constant keeps its value
+    std::vector<double> along_rows(layer.size(), 0.0), smoothed(layer.size(), 0.0);
+    for (int row = 0; row < n; ++row)
+        for (int col = 0; col < n; ++col)
+            for (int k = std::max(-reach, -col); k <= std::min(reach, n - 1 - col); ++k)
+                along_rows[std::size_t(row) * n + col] += taps[k + reach] * layer[std::size_t(row) * n + col + k];
+    for (int row = 0; row < n; ++row)
+        for (int col = 0; col < n; ++col)
+            for (int k = std::max(-reach, -row); k <= std::min(reach, n - 1 - row); ++k)
+                smoothed[std::size_t(row) * n + col] += taps[k + reach] * along_rows[std::size_t(row + k) * n + col];
+    return smoothed;
+}
 
 LayerComparison compare_layer(std::span<const float> test, std::span<const float> reference, int n) {
     const std::size_t pixels = std::size_t(n) * n;
@@ -43,7 +75,6 @@ LayerComparison compare_layer(std::span<const float> test, std::span<const float
         throw Error("cannot compare layers of " + std::to_string(test.size()) + " and " +
                     std::to_string(reference.size()) + " values as " + std::to_string(n) + "² images");
     LayerComparison result;
-    double difference2 = 0.0, reference2 = 0.0;
     float test_peak = -INFINITY, reference_peak = -INFINITY;
     std::size_t test_peak_index = 0, reference_peak_index = 0;
     for (int row = 0; row < n; ++row)
@@ -52,8 +83,6 @@ LayerComparison compare_layer(std::span<const float> test, std::span<const float
             const std::size_t i = std::size_t(row) * n + col;
             const double t = test[i];
             const double r = reference[i];
-            difference2 += (t - r) * (t - r);
-            reference2 += r * r;
             if (std::fabs(t - r) > result.max_abs_difference) {
                 result.max_abs_difference = std::fabs(t - r);
                 result.max_row = row;
@@ -62,7 +91,8 @@ LayerComparison compare_layer(std::span<const float> test, std::span<const float
             if (t > test_peak) test_peak = float(t), test_peak_index = i;
             if (r > reference_peak) reference_peak = float(r), reference_peak_index = i;
         }
-    result.relative_l2 = reference2 > 0.0 ? std::sqrt(difference2 / reference2) : std::sqrt(difference2);
+    result.relative_l2 = relative_l2(test, reference, n);
+    result.smoothed_relative_l2 = relative_l2(smooth_layer(test, n), smooth_layer(reference, n), n);
     result.test_sum = disk_sum(test, n);
     result.reference_sum = disk_sum(reference, n);
     result.peak_offset_pixels = std::hypot(double(test_peak_index / n) - double(reference_peak_index / n),

@@ -14,49 +14,18 @@
 #include "glintscope/core/geometry.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/lobe/compare.hpp"
+#include "output/drawing.hpp"
 
 namespace glintscope {
 namespace {
 
-using Colour = std::array<float, 3>;
-constexpr Colour kWhite{1.0f, 1.0f, 1.0f};
-constexpr Colour kBlack{0.0f, 0.0f, 0.0f};
+using namespace drawing;
+
 constexpr Colour kGuide{0.62f, 0.62f, 0.62f};    // disk outline and θ rings
 constexpr Colour kMarker{0.1f, 0.85f, 1.0f};     // mirror direction
 constexpr Colour kFootprint{1.0f, 0.1f, 0.55f};  // footprints on height maps (off the viridis/inferno hues)
-constexpr int kFont = 14;
-constexpr int kMargin = 8;
 constexpr int kBarWidth = 14;
 constexpr int kMinPanel = 320;
-
-const std::string& font() {
-    static const std::string name = [] {
-        for (const char* candidate : {"DejaVuSans", "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"})
-            if (OIIO::ImageBufAlgo::text_size("0", kFont, candidate).defined()) return std::string(candidate);
-        return std::string();
-    }();
-    if (name.empty()) throw Error("no font for picture text (install the fonts-dejavu-core package)");
-    return name;
-}
-
-int text_width(const std::string& text, int size = kFont) {
-    const OIIO::ROI box = OIIO::ImageBufAlgo::text_size(text, size, font());
-    return box.defined() ? box.width() : 0;
-}
-
-OIIO::ImageBuf blank(int width, int height) {
-    OIIO::ImageBuf picture(OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::FLOAT));
-    OIIO::ImageBufAlgo::fill(picture, kWhite);
-    return picture;
-}
-
-void text(OIIO::ImageBuf& picture, int x, int y, const std::string& line, const Colour& colour = kBlack,
-          OIIO::ImageBufAlgo::TextAlignX align = OIIO::ImageBufAlgo::TextAlignX::Left, int size = kFont) {
-    if (line.empty()) return;
-    if (!OIIO::ImageBufAlgo::render_text(picture, x, y, line, size, font(), colour, align,
-                                         OIIO::ImageBufAlgo::TextAlignY::Top))
-        throw Error("drawing text failed: " + picture.geterror());
-}
 
 // A circle of the unit disk's radius r (disk units) about the image centre, as a polyline.
 void circle(OIIO::ImageBuf& picture, int x0, int y0, int size, double r, const Colour& colour, bool dashed) {
@@ -99,12 +68,6 @@ bool applies(const LobeImage& lobe, const std::string& key) {
     for (const std::string& name : split(ignored, ','))
         if (name == key) return false;
     return true;
-}
-
-std::string number(double value, int digits = 3) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
-    return buffer;
 }
 
 std::string wavelength_text(const LobeImage& lobe) {
@@ -316,30 +279,8 @@ OIIO::ImageBuf panel(const LobeImage& lobe, const LobeOutputOptions& options, co
     return picture;
 }
 
-void write_png(OIIO::ImageBuf& picture, const std::string& path, const Provenance& metadata = {}) {
-    // The same "glintscope:" attributes as every output, so that a picture re-runs (query_keys.hpp).
-    for (const auto& [key, value] : metadata) picture.specmod().attribute("glintscope:" + key, value);
-    write_atomically(path, [&](const std::string& file) {
-        if (!picture.write(file, OIIO::TypeDesc::UINT8, "png"))
-            throw Error("cannot write '" + path + "': " + picture.geterror());
-    });
-}
-
 DisplayExposure exposure_of(const LobeImage& lobe, const ColourSettings& settings) {
     return is_signed(lobe) ? signed_exposure(lobe) : display_exposure(lobe, settings);
-}
-
-void paste(OIIO::ImageBuf& canvas, const OIIO::ImageBuf& picture, int x, int y) {
-    if (!OIIO::ImageBufAlgo::paste(canvas, x, y, 0, 0, picture)) throw Error("composing the figure failed: " + canvas.geterror());
-}
-
-// A round step for axis ticks and scale bars: 1, 2 or 5 × 10^k, about span/count.
-double nice_step(double span, int count) {
-    const double raw = span / count;
-    const double power = std::pow(10.0, std::floor(std::log10(raw)));
-    for (double m : {1.0, 2.0, 5.0, 10.0})
-        if (m * power >= raw) return m * power;
-    return 10.0 * power;
 }
 
 // Axes of a map-view picture of width_um × height_um drawn at (x0, y0) with size (w, h) pixels.

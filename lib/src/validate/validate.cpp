@@ -48,9 +48,30 @@ LobeQuery single_footprint(const ValidationPlan& plan, Point2 centre) {
 
 }  // namespace
 
+std::vector<DiffractionModel> validation_models(const ValidationPlan& plan) {
+    if (!plan.models.empty()) return plan.models;
+    const bool test_ignores = lobe_method(plan.test_method).ignores(QueryField::model);
+    const bool reference_ignores = lobe_method(plan.reference_method).ignores(QueryField::model);
+    // Kirchhoff's phase (ψ·n)kH with its slope term ξ2 (Yan 2018 Fig. 6) has the geometric lobe as
+    // its stationary-phase limit; OHS and R-OHS take the phase 2kH of normal incidence (ξ3 = 2),
+    // which away from it overstates the slopes by 2/(ψ·n) and converges to a wider lobe.
+    if (test_ignores != reference_ignores) return {DiffractionModel::kirchhoff};
+    return {plan.base.model};
+}
+
+std::vector<std::string> validation_notes(const ValidationPlan& plan) {
+    if (!plan.models.empty() || validation_models(plan).front() != DiffractionModel::kirchhoff ||
+        plan.base.model == DiffractionModel::kirchhoff)
+        return {};
+    const std::string geometric = lobe_method(plan.test_method).ignores(QueryField::model) ? plan.test_method
+                                                                                            : plan.reference_method;
+    return {geometric + " ignores the diffraction model: the wave lobe uses kirchhoff, whose lambda -> 0 limit is "
+            "geometric optics (R-OHS's phase 2kH is not; --models to choose); compare with 'smooth L2', which is speckle-free"};
+}
+
 std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const ProgressCallback& progress,
                                           const PairCallback& pair) {
-    const std::vector<DiffractionModel> models = plan.models.empty() ? std::vector{plan.base.model} : plan.models;
+    const std::vector<DiffractionModel> models = validation_models(plan);
     const std::vector<int> densities = plan.kernels_per_texel.empty() ? std::vector{0} : plan.kernels_per_texel;
     const std::vector<int> orders = plan.orders.empty() ? std::vector{0} : plan.orders;
     const std::vector<Point2> centres = validation_centres(plan);
@@ -83,7 +104,7 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
 
 std::vector<ConvergencePoint> run_convergence(const ValidationPlan& plan, const ProgressCallback& progress) {
     LobeQuery query = single_footprint(plan, validation_centres(plan).front());
-    if (!plan.models.empty()) query.model = plan.models.front();
+    query.model = validation_models(plan).front();
     query.wavelengths_um = {query.wavelengths_um.front()};
     query.method_options.clear();
     const std::size_t total = 1 + 4 + 1 + 4;
@@ -127,7 +148,7 @@ std::string convergence_csv(const std::vector<ConvergencePoint>& points) {
 std::string validation_csv(const std::vector<ValidationRow>& rows) {
     std::string csv =
         "centre_x_um,centre_y_um,model,kernels_per_texel,order,wavelength_um,relative_l2,peak_relative_error,"
-        "log_rms_error,energy_ratio,test_sum,reference_sum,max_abs_difference,peak_offset_pixels,test_seconds,"
+        "log_rms_error,smoothed_relative_l2,energy_ratio,test_sum,reference_sum,max_abs_difference,peak_offset_pixels,test_seconds,"
         "reference_seconds\n";
     for (const ValidationRow& row : rows) {
         const LayerComparison& c = row.comparison;
@@ -135,7 +156,7 @@ std::string validation_csv(const std::vector<ValidationRow>& rows) {
                      std::to_string(row.kernels_per_texel), std::to_string(row.order), shortest_text(c.wavelength_um),
                      shortest_text(c.relative_l2),
                      shortest_text(c.peak_relative_error), shortest_text(c.log_rms_error),
-                     shortest_text(c.energy_ratio()), shortest_text(c.test_sum), shortest_text(c.reference_sum),
+                     shortest_text(c.smoothed_relative_l2), shortest_text(c.energy_ratio()), shortest_text(c.test_sum), shortest_text(c.reference_sum),
                      shortest_text(c.max_abs_difference), shortest_text(c.peak_offset_pixels),
                      shortest_text(row.test_seconds), shortest_text(row.reference_seconds)},
                     ",") +
@@ -159,11 +180,14 @@ std::vector<ValidationSummary> summarize_validation(const std::vector<Validation
         it->worst_relative_l2 = std::max(it->worst_relative_l2, c.relative_l2);
         it->mean_peak_error += c.peak_relative_error;
         it->worst_peak_error = std::max(it->worst_peak_error, c.peak_relative_error);
+        it->mean_smoothed_l2 += c.smoothed_relative_l2;
+        it->worst_smoothed_l2 = std::max(it->worst_smoothed_l2, c.smoothed_relative_l2);
         it->mean_energy_ratio += c.energy_ratio();
     }
     for (ValidationSummary& s : summary) {
         s.mean_relative_l2 /= s.footprints;
         s.mean_peak_error /= s.footprints;
+        s.mean_smoothed_l2 /= s.footprints;
         s.mean_energy_ratio /= s.footprints;
     }
     return summary;
@@ -174,20 +198,23 @@ const std::vector<std::string>& validation_column_definitions() {
         "rel L2: sqrt(sum (t - r)^2) / sqrt(sum r^2) over the disk's pixels (t test, r reference)",
         "peak err: |t - r| / r at the reference's brightest pixel",
         "log err: root mean square of log10(t / r) where r is above 1e-3 of its peak (the tails)",
+        "smooth L2: rel L2 with t and r blurred by a Gaussian of one pixel: speckle-free, for geometric against wave",
         "energy: test albedo / reference albedo, each sum f_r (2/N)^2 over the disk",
         "t test, t ref: seconds to compute the test and reference lobes (all wavelengths)",
-        "mean, worst: over the footprints of one model, K, order and wavelength (the summary)"};
+        "mean, worst (L2, peak, smL2 = smooth L2): over the footprints of one model, K, order and wavelength (the summary)"};
     return columns;
 }
 
 std::string validation_summary_csv(const std::vector<ValidationSummary>& summary) {
     std::string csv = "model,kernels_per_texel,order,wavelength_um,footprints,mean_relative_l2,worst_relative_l2,"
-                      "mean_peak_relative_error,worst_peak_relative_error,mean_energy_ratio\n";
+                      "mean_peak_relative_error,worst_peak_relative_error,mean_smoothed_relative_l2,"
+                      "worst_smoothed_relative_l2,mean_energy_ratio\n";
     for (const ValidationSummary& s : summary)
         csv += join({to_string(s.model), std::to_string(s.kernels_per_texel), std::to_string(s.order),
                      shortest_text(s.wavelength_um),
                      std::to_string(s.footprints), shortest_text(s.mean_relative_l2), shortest_text(s.worst_relative_l2),
                      shortest_text(s.mean_peak_error), shortest_text(s.worst_peak_error),
+                     shortest_text(s.mean_smoothed_l2), shortest_text(s.worst_smoothed_l2),
                      shortest_text(s.mean_energy_ratio)},
                     ",") +
                "\n";
@@ -207,7 +234,7 @@ std::string validation_json(const ValidationPlan& plan, const std::vector<Valida
         if (key != "centre" && key != "model") query[key] = value;
     report["query"] = query;
     nlohmann::ordered_json models = nlohmann::ordered_json::array(), densities = nlohmann::ordered_json::array();
-    for (DiffractionModel model : plan.models.empty() ? std::vector{plan.base.model} : plan.models)
+    for (DiffractionModel model : validation_models(plan))
         models.push_back(to_string(model));
     for (int k : plan.kernels_per_texel) densities.push_back(k);
     report["models"] = models;
@@ -229,6 +256,8 @@ std::string validation_json(const ValidationPlan& plan, const std::vector<Valida
                            {"worst_relative_l2", s.worst_relative_l2},
                            {"mean_peak_relative_error", s.mean_peak_error},
                            {"worst_peak_relative_error", s.worst_peak_error},
+                           {"mean_smoothed_relative_l2", s.mean_smoothed_l2},
+                           {"worst_smoothed_relative_l2", s.worst_smoothed_l2},
                            {"mean_energy_ratio", s.mean_energy_ratio}});
     report["summary"] = summary;
     nlohmann::ordered_json list = nlohmann::ordered_json::array();
@@ -243,6 +272,7 @@ std::string validation_json(const ValidationPlan& plan, const std::vector<Valida
                                         {"relative_l2", c.relative_l2},
                                         {"peak_relative_error", c.peak_relative_error},
                                         {"log_rms_error", c.log_rms_error},
+                                        {"smoothed_relative_l2", c.smoothed_relative_l2},
                                         {"energy_ratio", c.energy_ratio()},
                                         {"test_sum", c.test_sum},
                                         {"reference_sum", c.reference_sum},

@@ -90,6 +90,10 @@ struct Recipe {
 
 std::vector<std::string> generator_kinds();
 
+// What a kind's built-in surface is, in one line (for `info builtin:KIND`); throws Error for
+// unknown kinds as default_recipe does.
+std::string kind_description(const std::string& kind);
+
 // The built-in recipe of a kind (throws Error for unknown kinds). Sizes are modest so that
 // `builtin:KIND` loads quickly: isotropic, brushed, scratched and gaussian 1024² at 1 µm,
 // grating 1024² at 0.25 µm, cd 1000² at 0.1 µm. heightfields/*.recipe hold the 8192² surfaces.

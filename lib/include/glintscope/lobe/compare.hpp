@@ -22,6 +22,11 @@ struct LayerComparison {
     // well the tails agree, which the relative L2 (dominated by the peak) does not show. A
     // pixel where t ≤ 0 counts as log10 of 1e-3 of the peak over r.
     double log_rms_error = 0.0;
+    // The relative L2 after both layers are blurred by a Gaussian of one pixel (smooth_layer):
+    // speckle-free, for a geometric lobe against a wave one, whose speckle (grains of
+    // ~λ/footprint) would otherwise dominate the error at any λ. With it the Kirchhoff FFT lobe
+    // converges to the geometric one as λ → 0 (docs/validation.md "Geometric against wave optics").
+    double smoothed_relative_l2 = 0.0;
 
     double energy_ratio() const { return reference_sum != 0.0 ? test_sum / reference_sum : 0.0; }
 };
@@ -32,6 +37,10 @@ std::vector<LayerComparison> compare_lobes(const LobeImage& test, const LobeImag
 // One layer of two N×N images in LobeImage's layout (row-major, row 0 at the top), for layers
 // that are not wavelengths (the R, G, B channels of a colour EXR). wavelength_um is left 0.
 LayerComparison compare_layer(std::span<const float> test, std::span<const float> reference, int resolution);
+
+// One N×N layer blurred by a Gaussian of σ = 1 pixel (separable, truncated at 4σ, zero outside
+// the image): the smoothing of LayerComparison::smoothed_relative_l2.
+std::vector<double> smooth_layer(std::span<const float> layer, int resolution);
 
 // test − reference, per pixel and layer, with the test's metadata and method "TEST - REFERENCE"
 // (a signed image: figure.hpp draws it on a diverging scale). Throws as compare_lobes.

@@ -16,7 +16,7 @@ struct ValidationPlan {
     LobeQuery base;                          // heightfield, footprint(s), ω_i, λ, ...: a row per footprint
     std::string test_method = "gabor";
     std::string reference_method = "fft";
-    std::vector<DiffractionModel> models;    // default: the base query's model
+    std::vector<DiffractionModel> models;    // default: validation_models
     std::vector<int> kernels_per_texel;      // the test method's option; empty: its default
     std::vector<int> orders;                 // the test method's option "order" (gabor: 1, 2); empty: its default
 };
@@ -30,6 +30,14 @@ struct ValidationRow {
     double test_seconds = 0.0;               // for the whole query (all wavelengths)
     double reference_seconds = 0.0;
 };
+
+// The models a plan runs: its own, or by default the base query's model, except when exactly one
+// of the two methods ignores the diffraction model (geometric optics against a wave method):
+// then Kirchhoff, the model whose λ → 0 limit is geometric optics (docs/validation.md).
+std::vector<DiffractionModel> validation_models(const ValidationPlan& plan);
+
+// What the library chose for a plan that its caller should say once (e.g. the Kirchhoff default).
+std::vector<std::string> validation_notes(const ValidationPlan& plan);
 
 // Progress: called after each computed lobe with (done, total, what was computed).
 using ProgressCallback = std::function<void(std::size_t done, std::size_t total, const std::string& what)>;
@@ -68,6 +76,8 @@ struct ValidationSummary {
     double worst_relative_l2 = 0.0;
     double mean_peak_error = 0.0;
     double worst_peak_error = 0.0;
+    double mean_smoothed_l2 = 0.0;           // LayerComparison::smoothed_relative_l2, speckle-free
+    double worst_smoothed_l2 = 0.0;
     double mean_energy_ratio = 0.0;
 };
 std::vector<ValidationSummary> summarize_validation(const std::vector<ValidationRow>& rows);
