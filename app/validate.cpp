@@ -1,6 +1,7 @@
 // glintscope validate HEIGHTFIELD [query flags] --footprints N|grid[:N] --models LIST
 //   --kernels-per-texel LIST [--report OUT.json] [--csv OUT.csv] [--fail-above X]:
 // the Gabor method against the FFT ground truth (or any two methods) on the same queries.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -91,18 +92,47 @@ void print_summary(const std::vector<ValidationSummary>& summary) {
                     s.mean_energy_ratio);
 }
 
-// test | reference | test − reference (figure.hpp: write_difference_figure).
+// test | reference | test − reference (figure.hpp: write_difference_figure), titled with the
+// pair's relative L2 (its mean and worst over the wavelengths of a spectrum).
 void write_pair(const std::string& directory, std::size_t index, const ValidationPlan& plan, const ValidationRow& row,
                 const LobeImage& test, const LobeImage& reference) {
-    char title[160];
+    const std::vector<LayerComparison> layers = compare_lobes(test, reference);
+    double mean = 0.0, worst = 0.0;
+    for (const LayerComparison& layer : layers) mean += layer.relative_l2 / double(layers.size()), worst = std::max(worst, layer.relative_l2);
+    char l2[96];
+    if (layers.size() == 1) std::snprintf(l2, sizeof l2, "relative L2 %.2f%%", 100.0 * mean);
+    else std::snprintf(l2, sizeof l2, "relative L2 mean %.2f%%, worst %.2f%% over %zu wavelengths", 100.0 * mean, 100.0 * worst, layers.size());
+    char title[240];
     const std::string density = row.kernels_per_texel ? ", K = " + std::to_string(row.kernels_per_texel) : "";
     const std::string order = row.order ? ", order " + std::to_string(row.order) : "";
-    std::snprintf(title, sizeof title, "%s against %s: centre %.1f,%.1f um, %s%s%s, relative L2 %.2f%%",
-                  plan.test_method.c_str(), plan.reference_method.c_str(), row.centre_um.x, row.centre_um.y,
-                  to_string(row.model).c_str(), density.c_str(), order.c_str(), 100.0 * row.comparison.relative_l2);
+    std::snprintf(title, sizeof title, "%s against %s: centre %.1f,%.1f um, %s%s%s, %s", plan.test_method.c_str(),
+                  plan.reference_method.c_str(), row.centre_um.x, row.centre_um.y, to_string(row.model).c_str(),
+                  density.c_str(), order.c_str(), l2);
     const LobeOutputOptions options;
     write_difference_figure(test, reference, {title, "", plan.test_method, plan.reference_method, "difference"},
                             directory + "/pair-" + std::to_string(index) + ".png", options);
+}
+
+// Error against K per model (and order), the mean over footprints and wavelengths, when several K ran.
+void write_summary_plot(const std::string& path, const ValidationPlan& plan, const std::vector<ValidationSummary>& summary) {
+    Plot plot{plan.test_method + " against " + plan.reference_method + ": error against kernels per texel K",
+              "K (kernels per texel)", "mean relative L2 [%]", {}, {}, true};
+    for (const ValidationSummary& s : summary) {
+        const std::string label = to_string(s.model) + (s.order ? ", order " + std::to_string(s.order) : "");
+        auto series = std::find_if(plot.series.begin(), plot.series.end(), [&](const PlotSeries& p) { return p.label == label; });
+        if (series == plot.series.end()) series = plot.series.insert(plot.series.end(), {label, {}, {}});
+        const std::size_t k = std::find(series->x.begin(), series->x.end(), double(s.kernels_per_texel)) - series->x.begin();
+        if (k == series->x.size()) {  // a new K: its mean over the wavelengths starts here
+            series->x.push_back(s.kernels_per_texel);
+            series->y.push_back(0.0);
+        }
+        series->y[k] += 100.0 * s.mean_relative_l2 / double(plan.base.wavelengths_um.size());
+    }
+    plot.caption.push_back("each point: the mean over " + std::to_string(summary.front().footprints) + " footprint" +
+                           (summary.front().footprints == 1 ? "" : "s") + " and " +
+                           std::to_string(plan.base.wavelengths_um.size()) + " wavelength" +
+                           (plan.base.wavelengths_um.size() == 1 ? "" : "s") + " of the relative L2 (validate's summary)");
+    write_plot(plot, path);
 }
 
 // The albedo of the test and reference methods against incidence, for --models (default rohs and
@@ -189,6 +219,10 @@ void run(const ValidateSettings& settings) {
     if (!settings.images.empty())
         for (std::size_t k = 0; k < rows.size(); ++k)
             pictures.push_back("pair-" + std::to_string(k / plan.base.wavelengths_um.size() + 1) + ".png");
+    if (!settings.images.empty() && plan.kernels_per_texel.size() > 1) {
+        write_summary_plot(settings.images + "/summary.png", plan, summary);
+        std::printf("\nerror against K: %s/summary.png\n", settings.images.c_str());
+    }
     if (!settings.report.empty())
         write_text_file(settings.report, validation_json(plan, rows, invocation(), pictures));
     if (!settings.csv.empty()) write_text_file(settings.csv, validation_csv(rows));
@@ -236,7 +270,8 @@ void add_validate_command(CLI::App& app) {
     command->add_option("--summary-csv", settings->summary_csv,
                         "The summary (mean and worst per model, K, order and wavelength) as CSV");
     command->add_option("--images", settings->images,
-                        "Write DIR/pair-N.png per compared pair: test, reference and their signed difference");
+                        "Write DIR/pair-N.png per compared pair: test, reference and their signed difference (a "
+                        "spectrum's: the mean over its wavelengths), and DIR/summary.png, error against K, when several K");
     command->add_option("--convergence", settings->convergence,
                         "Instead: error against K = 1-4 (gabor vs fft) and against the FFT step, as CSV "
                         "(plot with scripts/plot-convergence.py)");

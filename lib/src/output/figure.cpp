@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -541,18 +542,38 @@ FigureLayout write_figure(const Figure& figure, const std::string& path, const L
     return layout;
 }
 
+namespace {
+
+// The band's signed difference: the mean over wavelengths of test − reference, one layer, its
+// caption without a λ (the not-applicable list) since it stands for the whole spectrum.
+LobeImage band_mean_difference(const LobeImage& difference) {
+    if (difference.layers() == 1) return difference;
+    const double mean_lambda = std::accumulate(difference.wavelengths_um.begin(), difference.wavelengths_um.end(), 0.0) /
+                               double(difference.layers());
+    LobeImage mean = make_lobe_image(difference.resolution, {mean_lambda}, difference.quantity);
+    const std::size_t pixels = std::size_t(difference.resolution) * difference.resolution;
+    for (std::size_t layer = 0; layer < difference.layers(); ++layer)
+        for (std::size_t i = 0; i < pixels; ++i)
+            mean.values[i] += difference.values[layer * pixels + i] / float(difference.layers());
+    mean.metadata = difference.metadata;
+    const std::string ignored = metadata(difference, "not_applicable");
+    mean.metadata["not_applicable"] = ignored.empty() ? "lambda" : ignored + ",lambda";
+    return mean;
+}
+
+}  // namespace
+
 FigureLayout write_difference_figure(const LobeImage& test, const LobeImage& reference, const DifferenceFigure& labels,
                                      const std::string& path, const LobeOutputOptions& options) {
-    const LobeImage difference = difference_image(test, reference);
+    const LobeImage difference = band_mean_difference(difference_image(test, reference));
     Figure figure;
     figure.title = labels.title;
     figure.caption = labels.caption;
-    figure.column_labels = {labels.test_label, labels.reference_label};
-    figure.cells = {{&test, &reference}};
-    if (test.layers() == 1) {
-        figure.column_labels.push_back(labels.difference_label);
-        figure.cells[0].push_back(&difference);
-    }
+    figure.column_labels = {labels.test_label, labels.reference_label,
+                            test.layers() == 1 ? labels.difference_label
+                                               : labels.difference_label + " (mean over " +
+                                                     std::to_string(test.layers()) + " wavelengths)"};
+    figure.cells = {{&test, &reference, &difference}};
     figure.exposure = SharedExposure::per_row;  // test and reference alike; the difference on its own scale
     return write_figure(figure, path, options);
 }

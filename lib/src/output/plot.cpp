@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "glintscope/core/error.hpp"
 #include "output/drawing.hpp"
@@ -71,15 +72,21 @@ void draw_ticks(OIIO::ImageBuf& picture, const Axes& axes, const Plot& plot) {
         OIIO::ImageBufAlgo::render_line(picture, axes.px(x), kTop, axes.px(x), kTop + kAreaHeight, kGrid);
         text(picture, axes.px(x), kTop + kAreaHeight + 6, number(x, 4), kBlack, centre, 12);
     }
-    const double y_step = plot.log_y ? 1.0 : nice_step(axes.y.high - axes.y.low, 6);
-    for (double v = axes.y.low; v <= axes.y.high + 1e-9 * y_step; v += y_step) {
-        const double y = plot.log_y ? std::pow(10.0, v) : v;
+    const auto tick = [&](double y) {
         OIIO::ImageBufAlgo::render_line(picture, kLeft, axes.py(y), kLeft + kAreaWidth, axes.py(y), kGrid);
         text(picture, kLeft - 6, axes.py(y) - 7, number(y, 4), kBlack, right, 12);
+    };
+    if (plot.log_y)  // decades, and 2 and 5 within them when there are few
+        for (double v = axes.y.low; v <= axes.y.high + 1e-9; v += 1.0)
+            for (double m : axes.y.high - axes.y.low <= 2.0 ? std::vector{1.0, 2.0, 5.0} : std::vector{1.0})
+                if (v + std::log10(m) <= axes.y.high + 1e-9) tick(m * std::pow(10.0, v));
+    if (!plot.log_y) {
+        const double y_step = nice_step(axes.y.high - axes.y.low, 6);
+        for (double y = axes.y.low; y <= axes.y.high + 1e-9 * y_step; y += y_step) tick(y);
     }
     OIIO::ImageBufAlgo::render_box(picture, kLeft, kTop, kLeft + kAreaWidth, kTop + kAreaHeight, kBlack);
     text(picture, kLeft + kAreaWidth / 2, kTop + kAreaHeight + 24, plot.x_label, kBlack, centre);
-    text(picture, kLeft, kTop - 20, plot.y_label + (plot.log_y ? " (log scale)" : ""), kBlack, right);
+    text(picture, kMargin, kTop - 20, plot.y_label + (plot.log_y ? " (log scale)" : ""));
 }
 
 // Lines two pixels thick between consecutive drawable points, and a square mark at each point.

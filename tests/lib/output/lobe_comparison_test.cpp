@@ -135,20 +135,11 @@ TEST_F(LobeComparison, ReportHoldsBothInputsAndTheNumbersPerLayer) {
     EXPECT_EQ(second["energy_ratio"].get<double>(), comparison.layers[1].energy_ratio());
 }
 
-// The difference panel of the picture is coloured (not the neutral grey of 0) at exactly the
-// pixels where A and B differ: A = B + 1 on a block of pixels.
-TEST_F(LobeComparison, DifferencePanelIsColouredExactlyWhereTheImagesDiffer) {
-    const int n = 32;
-    const LobeImage b = spot_lobe(n, {0.5});
-    LobeImage a = b;
-    auto differs = [](int r, int c) { return r >= 18 && r < 24 && c >= 6 && c < 14; };
-    for (int r = 0; r < n; ++r)
-        for (int c = 0; c < n; ++c)
-            if (differs(r, c)) a.at(0, r, c) += 1.0f;
-    const LobeFileComparison comparison = compare_lobe_exrs(write(a, "a.exr"), write(b, "b.exr"));
-    const std::string path = directory.file("diff.png");
-    const FigureLayout layout = write_comparison_figure(comparison, path);
+bool in_block(int r, int c) { return r >= 18 && r < 24 && c >= 6 && c < 14; }
 
+// The third panel of the picture at `path` is coloured (not the neutral grey of 0) at exactly the
+// image pixels of in_block.
+void expect_difference_coloured_on_the_block(const std::string& path, const FigureLayout& layout, int n) {
     auto input = OIIO::ImageInput::open(path);
     ASSERT_TRUE(input);
     const OIIO::ImageSpec& spec = input->spec();
@@ -171,12 +162,38 @@ TEST_F(LobeComparison, DifferencePanelIsColouredExactlyWhereTheImagesDiffer) {
             if (rgb[0] == rgb[1] && rgb[1] == rgb[2] && rgb[0] != 221) continue;  // a guide ring or its label
             if (rgb[0] < 40 && rgb[2] == 255) continue;                           // the cyan marker
             const bool grey = rgb[0] == 221 && rgb[1] == 221 && rgb[2] == 221;     // 0 on the diverging map
-            EXPECT_EQ(!grey, differs(r, c)) << "pixel " << r << "," << c;
+            EXPECT_EQ(!grey, in_block(r, c)) << "pixel " << r << "," << c;
             coloured += !grey;
             ++checked;
         }
     EXPECT_GT(checked, 400);
     EXPECT_EQ(coloured, 6 * 8);
+}
+
+// A = B + 1 on a block of pixels.
+TEST_F(LobeComparison, DifferencePanelIsColouredExactlyWhereTheImagesDiffer) {
+    const int n = 32;
+    const LobeImage b = spot_lobe(n, {0.5});
+    LobeImage a = b;
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+            if (in_block(r, c)) a.at(0, r, c) += 1.0f;
+    const LobeFileComparison comparison = compare_lobe_exrs(write(a, "a.exr"), write(b, "b.exr"));
+    const std::string path = directory.file("diff.png");
+    expect_difference_coloured_on_the_block(path, write_comparison_figure(comparison, path), n);
+}
+
+// A spectrum gets its difference panel too: the mean over its wavelengths, here +1 at one of two.
+TEST_F(LobeComparison, ASpectrumsDifferencePanelIsTheMeanOverItsWavelengths) {
+    const int n = 32;
+    const LobeImage b = spot_lobe(n, {0.45, 0.65});
+    LobeImage a = b;
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+            if (in_block(r, c)) a.at(1, r, c) += 1.0f;
+    const std::string path = directory.file("spectral-diff.png");
+    expect_difference_coloured_on_the_block(
+        path, write_difference_figure(a, b, {"spectral", "", "a", "b", "a - b"}, path, LobeOutputOptions{}), n);
 }
 
 }  // namespace

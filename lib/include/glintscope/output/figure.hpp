@@ -66,9 +66,9 @@ struct FigureLayout {
 FigureLayout write_figure(const Figure& figure, const std::string& path, const LobeOutputOptions& options);
 
 // One row: test | reference | test − reference (compare.hpp: difference_image). The two inputs
-// share one exposure; the difference, for a single-layer image only (a spectrum has no one
-// signed picture), is drawn on its own diverging scale, symmetric about 0, with a colour bar in
-// the quantity's units. Throws Error for images compare_lobes refuses.
+// share one exposure; the difference (for a spectrum, its mean over the wavelengths, so labelled)
+// is drawn on its own diverging scale, symmetric about 0, with a colour bar in the quantity's
+// units. Throws Error for images compare_lobes refuses.
 struct DifferenceFigure {
     std::string title;
     std::string caption;  // a line under the row
