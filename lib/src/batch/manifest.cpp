@@ -58,8 +58,14 @@ struct Entry {
     std::string label;
     std::string method;
     QueryText query;
+    std::vector<toml::source_region> value_where;  // where each query value is written
     toml::source_region where;
 };
+
+void add_value(Entry& entry, const std::string& path, const std::string& key, const toml::node& node) {
+    entry.query.emplace_back(key, value_text(path, key, node));
+    entry.value_where.push_back(node.source());
+}
 
 Entry read_entry(const std::string& path, const toml::table& table, bool labelled) {
     Entry entry;
@@ -73,12 +79,11 @@ Entry read_entry(const std::string& path, const toml::table& table, bool labelle
             if (!node.is_string()) fail(path, node.source(), key, "expected a string");
             entry.method = node.as_string()->get();
         } else if (key == "option" && node.is_table()) {
-            for (const auto& [option, value] : *node.as_table())
-                entry.query.emplace_back("option." + std::string(option.str()), value_text(path, "option." + std::string(option.str()), value));
+            for (const auto& [option, value] : *node.as_table()) add_value(entry, path, "option." + std::string(option.str()), value);
         } else if (is_query_key(key)) {
-            entry.query.emplace_back(key, value_text(path, key, node));
+            add_value(entry, path, key, node);
         } else if (is_method_option(key)) {
-            entry.query.emplace_back("option." + key, value_text(path, key, node));
+            add_value(entry, path, "option." + key, node);
         } else {
             fail(path, node.source(), key, std::string("unknown key (") + (labelled ? "label, " : "") +
                                                "method, a method option or a query key: " + [] {
@@ -151,6 +156,21 @@ bool boolean_value(const std::string& path, const toml::table& root, const std::
     return node->as_boolean()->get();
 }
 
+// Each value on its own, at the line it is written on ([defaults] included): its syntax and
+// range, a material's name, a heightfield's existence. What only the merged panel can tell (keys
+// that exclude each other, a method that does not answer the quantity) is named by cell.
+void check_values(const std::string& path, const Entry& entry, const std::string& base_dir) {
+    for (std::size_t k = 0; k < entry.query.size(); ++k) {
+        const auto& [key, value] = entry.query[k];
+        try {
+            check_query_value(key, value);
+            if (key == "heightfield") check_heightfield(value, base_dir);
+        } catch (const Error& e) {
+            fail(path, entry.value_where[k], key, e.what());
+        }
+    }
+}
+
 const std::vector<std::string> kTopKeys = {"title",  "caption",  "output", "exposure", "scale",
                                            "insets", "defaults", "row",    "column"};
 
@@ -183,6 +203,9 @@ Manifest load_manifest(const std::string& path) {
     const std::vector<Entry> rows = read_entries(path, root, "row");
     const std::vector<Entry> columns = read_entries(path, root, "column");
     const std::string base_dir = std::filesystem::path(path).parent_path().string();
+    check_values(path, defaults, base_dir);
+    for (const std::vector<Entry>* entries : {&rows, &columns})
+        for (const Entry& entry : *entries) check_values(path, entry, base_dir);
     for (const Entry& row : rows) manifest.row_labels.push_back(row.label);
     for (const Entry& column : columns) manifest.column_labels.push_back(column.label);
     for (std::size_t r = 0; r < rows.size(); ++r)

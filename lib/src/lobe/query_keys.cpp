@@ -1,4 +1,5 @@
 #include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/optics/material.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -294,6 +295,17 @@ LobeQuery check_query_text(const QueryText& text) {
         if (is_option_key(key)) query.method_options[key.substr(kOptionPrefix.size())] = value;
     if (query.source.argument.empty()) throw Error("the query names no heightfield");
     return query;
+}
+
+void check_query_value(const std::string& key, const std::string& value) {
+    for (const KeyBinding& binding : bindings())
+        if (binding.key.name == key) try {
+                LobeQuery query;
+                binding.set(query, value);
+                if (!query.material.name.empty()) check_material_name(query.material.name);
+            } catch (const Error& e) {
+                throw Error("query key " + key + ": " + e.what());
+            }
 }
 
 LobeQuery make_query(const QueryText& text) {

@@ -73,6 +73,8 @@ const MaterialTable& find_material(const std::string& name) {
 
 }  // namespace
 
+void check_material_name(const std::string& material) { find_material(material); }
+
 std::vector<std::string> material_names() {
     std::vector<std::string> names;
     for (const MaterialTable& material : materials()) names.push_back(material.name);

@@ -136,6 +136,13 @@ TEST(Batch, MalformedManifestsNameFileLineAndKey) {
     EXPECT_NE(manifest_error("scale = \"sideways\"\n" + head + column).find("m.toml:1: key 'scale': 'sideways' is not linear or log"),
               std::string::npos);
     EXPECT_NE(manifest_error(head + column + "method = \"pndf\"\n").find("does not compute brdf"), std::string::npos);
+    // The line the value is written on: in [defaults], and a material's name.
+    EXPECT_NE(manifest_error("output = \"f.png\"\n[defaults]\nsigma_c = 5\nres = \"big\"\n" + head.substr(head.find('\n') + 1) + column)
+                  .find("m.toml:4: key 'res': query key res"),
+              std::string::npos);
+    const std::string material = manifest_error(head + column + "material = \"Xx\"\n");
+    EXPECT_NE(material.find("m.toml:7: key 'material'"), std::string::npos) << material;
+    EXPECT_NE(material.find("unknown material 'Xx'"), std::string::npos) << material;
 }
 
 TEST(Batch, InsetsAddAHeightfieldColumnWithTheFootprintDrawn) {

@@ -36,6 +36,11 @@ LobeQuery make_query(const QueryText& text);
 // query with every key applied and no heightfield loaded.
 LobeQuery check_query_text(const QueryText& text);
 
+// One key's value checked alone, as check_query_text checks it (syntax and range; a material
+// name against the known ones), so that a manifest names the line the value is written on.
+// Throws Error "query key K: problem"; method options ("option.K") and unknown keys pass.
+void check_query_value(const std::string& key, const std::string& value);
+
 // The keys that reproduce the query exactly (omega_i and lambda as exact numbers).
 QueryText query_text(const LobeQuery& query);
 

@@ -9,6 +9,9 @@ namespace glintscope {
 // The known materials by chemical symbol: Ag, Al, Au, Cr, Cu, Fe.
 std::vector<std::string> material_names();
 
+// Throws Error for a name that is not a known material (any case), listing the known ones.
+void check_material_name(const std::string& material);
+
 // The measurement a material's table comes from (one line, for metadata).
 std::string material_source(const std::string& material);
 
