@@ -54,6 +54,27 @@ std::string unknown_command(const CLI::App& app, int argc, char** argv) {
     return "";
 }
 
+// For a long option the chosen command does not know, the closest one it does ("" if none is
+// within two edits): a mistyped --lamda gets "did you mean '--lambda'?".
+std::string option_suggestion(const CLI::App& app, int argc, char** argv) {
+    std::vector<std::string> names;
+    std::vector<const CLI::App*> scopes = {&app};
+    for (const CLI::App* command : app.get_subcommands()) scopes.push_back(command);
+    for (const CLI::App* scope : scopes)
+        for (const CLI::Option* option : scope->get_options())
+            for (const std::string& name : option->get_lnames()) names.push_back("--" + name);
+    for (int i = 1; i < argc; ++i) {
+        const std::string word = std::string(argv[i]).substr(0, std::string(argv[i]).find('='));
+        if (!word.starts_with("--") || std::find(names.begin(), names.end(), word) != names.end()) continue;
+        std::string closest;
+        std::size_t best = SIZE_MAX;
+        for (const std::string& name : names)
+            if (const std::size_t distance = edit_distance(word, name); distance < best) best = distance, closest = name;
+        if (best <= 2) return "did you mean '" + closest + "' for '" + word + "'?";
+    }
+    return "";
+}
+
 }  // namespace
 
 namespace glintscope::cli {
@@ -104,6 +125,11 @@ int main(int argc, char** argv) {
     }
     try {
         app.parse(argc, argv);
+    } catch (const CLI::ExtrasError& e) {
+        const std::string suggestion = option_suggestion(app, argc, argv);
+        if (suggestion.empty()) return app.exit(e) == 0 ? 0 : 2;
+        std::fprintf(stderr, "glintscope: error: %s (%s)\n", e.what(), suggestion.c_str());
+        return 2;
     } catch (const CLI::ParseError& e) {
         return app.exit(e) == 0 ? 0 : 2;
     } catch (const glintscope::cli::ExitStatus& e) {

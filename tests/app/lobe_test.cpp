@@ -109,6 +109,8 @@ TEST(LobeCommand, BadInputFailsInOneLineAndWritesNothing) {
         {{"lobe", field, "--method", "fft", "--option", "step=-1um", "-o", out}, "step"},
         {{"lobe", field, "--method", "gabor", "--option", "colour=blue", "-o", out}, "has no option 'colour'"},
         {{"lobe", field, "-o", directory.file("no/such/dir/out.exr")}, "does not exist"},
+        {{"lobe", field, "--lamda", "0.5um", "-o", out}, "did you mean '--lambda' for '--lamda'?"},
+        {{"lobe", field, "--supersampel=2", "-o", out}, "did you mean '--supersample'"},
     };
     for (const BadRequest& request : requests) {
         const int before = testing::count_entries(directory.path());
