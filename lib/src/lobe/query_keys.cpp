@@ -126,8 +126,8 @@ const std::vector<KeyBinding>& bindings() {
              return shortest_text(q.source.load.height_scale);
          }},
         {{"periodic", "yes|no",
-          "the heightfield file holds one tile of a periodic surface: footprints may cross its borders (default no "
-          "for files; builtin fields always tile)",
+          "the heightfield file holds one tile of a periodic surface: footprints may cross its borders (not given: "
+          "no for files, builtin fields always tile; a bare --periodic means yes, the =yes shown)",
           "yes"},
          [](LobeQuery& q, const std::string& t) {
              if (t != "yes" && t != "no") throw Error("periodic must be yes or no, got '" + t + "'");

@@ -200,6 +200,10 @@ LobeImage discrete_lobe(const LobeQuery& query) {
     m["discrete.flakes_in_tile"] = shortest_text(setup.material.flakes);
     m["discrete.flake_density_per_um2"] = shortest_text(setup.density_per_um2);
     m["discrete.distribution"] = method_option_text(query, "distribution", "beckmann");
+    if (m["discrete.distribution"] != "pndf")  // said once by the pipeline's notes
+        m["note.discrete"] = "discrete: the flake normals follow the " + m["discrete.distribution"] +
+                             " distribution of option alpha (default 0.2), not the heightfield (option "
+                             "distribution=pndf uses its normals)";
     m["discrete.cone_deg"] = shortest_text(setup.cone * 180.0 / pi);
     m["discrete.seed"] = std::to_string(setup.material.seed);
     m["discrete.tile_um"] = shortest_text(setup.material.tile_um);

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <string>
 
@@ -117,6 +119,25 @@ TEST(DiscreteLobe, ManyFlakesOfTheSurfacesOwnDistributionGiveItsPatchNdf) {
     // Measured 0.031: the flakes average the P-NDF over a cap of one pixel's solid angle, the pndf
     // image over the pixel's square, and this P-NDF has sharp folds.
     EXPECT_LT(relative_l2(flakes, reference), 0.05);
+}
+
+// The default flakes follow Beckmann α 0.2 whatever the heightfield: the run says so (a note,
+// said once), and not when the flakes follow the heightfield's own P-NDF.
+TEST(DiscreteLobe, SaysWhenItsFlakesIgnoreTheHeightfield) {
+    Recipe recipe = default_recipe("isotropic");
+    recipe.grid.rows = recipe.grid.cols = 64;
+    LobeQuery query;
+    set_heightfield(query, generate(recipe));
+    query.resolution = 16;
+    query.footprint.centre_um = query.field->centre_um();
+    query.method_options["flakes"] = "1e4";
+    const auto mentions = [](const LobeRun& run) {
+        return std::count_if(run.notes.begin(), run.notes.end(),
+                             [](const std::string& note) { return note.find("not the heightfield") != std::string::npos; });
+    };
+    EXPECT_EQ(mentions(run_lobe("discrete", query)), 1);
+    query.method_options["distribution"] = "pndf";
+    EXPECT_EQ(mentions(run_lobe("discrete", query)), 0);
 }
 
 // The glint map's centre is the lobe's pixel at the same ω_o, and its mean over many footprints is
