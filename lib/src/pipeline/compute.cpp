@@ -58,6 +58,11 @@ void label(LobeImage& image, const MethodInfo& method, const LobeQuery& query) {
     if (image.metadata.count("not_applicable")) not_applicable = split(image.metadata.at("not_applicable"), ',');
     for (QueryField field : method.ignored)
         for (const std::string& key : keys_of(field)) not_applicable.push_back(key);
+    // Geometric optics without a material (F = 1): the wavelength changes nothing, so no caption
+    // should state one.
+    if (!method.wave_optics && query.material.name.empty() &&
+        std::find(not_applicable.begin(), not_applicable.end(), "lambda") == not_applicable.end())
+        not_applicable.push_back("lambda");
     if (!not_applicable.empty()) image.metadata["not_applicable"] = join(not_applicable);
     image.metadata["method"] = method.name;
     image.metadata["method.reference"] = method.reference;
