@@ -141,6 +141,7 @@ void run(const ImageCommandSettings& settings, const std::string& heightfield, s
          const std::string& default_method) {
     check_outputs(settings);
     const LobeOutputOptions options = output_options(settings);
+    check_output_options(options);
     if (!method.empty()) lobe_method(method);  // an unknown method fails before the heightfield is loaded
     const LobeQuery query = query_of(settings, heightfield, method);
     if (method.empty()) method = default_method;

@@ -109,6 +109,9 @@ TEST(LobeCommand, BadInputFailsInOneLineAndWritesNothing) {
         {{"lobe", field, "--method", "fft", "--option", "step=-1um", "-o", out}, "step"},
         {{"lobe", field, "--method", "gabor", "--option", "colour=blue", "-o", out}, "has no option 'colour'"},
         {{"lobe", field, "-o", directory.file("no/such/dir/out.exr")}, "does not exist"},
+        {{"lobe", field, "--colormap", "rainbow", "-o", out}, "unknown lobe colour map 'rainbow'"},
+        {{"lobe", field, "--colour-space", "nonsense", "-o", out}, "nonsense"},
+        {{"lobe", field, "--ocio-config", directory.file("none.ocio"), "-o", out}, "none.ocio"},
         {{"lobe", field, "--lamda", "0.5um", "-o", out}, "did you mean '--lambda' for '--lamda'?"},
         {{"lobe", field, "--supersampel=2", "-o", out}, "did you mean '--supersample'"},
     };

@@ -66,6 +66,17 @@ void check_colormap_option(const std::string& name) {
         throw Error("unknown lobe colour map '" + name + "' (available: inferno, viridis, grey)");
 }
 
+}  // namespace
+
+void check_output_options(const LobeOutputOptions& options) {
+    check_colormap_option(options.colormap);
+    std::vector<float> black(3, 0.0f);  // one pixel through the config: it loads and knows the space
+    convert_from_xyz(black, options.colour, options.colour.output_space);
+    scene_linear_chromaticities(options.colour, options.colour.output_space);
+}
+
+namespace {
+
 // The writer's own facts, in the reserved "output." namespace.
 Provenance output_facts(const LobeImage& lobe, const LobeOutputOptions& options, const std::string& channels) {
     Provenance facts;

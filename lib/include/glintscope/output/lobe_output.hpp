@@ -53,6 +53,11 @@ std::vector<WavelengthSummary> summarize_lobe(const LobeImage& lobe);
 // The spectral channel name of a wavelength (Fichet et al. 2021), e.g. 0.56 → "S0.560,000000nm".
 std::string spectral_channel_name(double wavelength_um);
 
+// The options' colour map, OpenColorIO config and output colour space (known, scene-linear)
+// checked as the writers will use them, so that a bad --colormap, --ocio-config or
+// --colour-space fails before any computation. Throws Error with one line.
+void check_output_options(const LobeOutputOptions& options);
+
 void write_lobe_exr(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options);
 
 // Annotated (figure.hpp: write_lobe_picture) unless options.bare. Returns the exposure used
