@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "glintscope/core/atomic_output.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/io/heightfield_io.hpp"
@@ -67,6 +68,7 @@ std::string summary(const std::string& verb, const std::string& path, const Heig
 
 void run_convert(const ConvertSettings& settings, bool resample_given) {
     // Every option is checked before the (possibly large) input is read.
+    check_output_path(settings.output, {"exr", "x3p", "npy"}, "-o");
     const bool crop_given = !settings.crop.empty();
     const CropRegion region = crop_given ? parse_crop(settings.crop) : CropRegion{};
     const bool form_given = !settings.form.empty();

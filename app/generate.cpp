@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "glintscope/core/atomic_output.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/io/heightfield_io.hpp"
@@ -90,6 +91,7 @@ void run_generate(const GenerateOptions& options) {
         throw Error("generate: give either a KIND or --recipe FILE, not both");
     if (options.recipe_path.empty() && options.kind.empty())
         throw Error("generate: give a KIND (" + join(generator_kinds()) + ") or --recipe FILE");
+    check_output_path(options.output, {"exr", "x3p", "npy"}, "-o");  // before the work
     Recipe recipe = options.recipe_path.empty() ? default_recipe(options.kind) : load_recipe(options.recipe_path);
     if (!options.size.empty()) set_recipe_value(recipe, "size", options.size);
     for (const auto& [key, option] : options.given) {

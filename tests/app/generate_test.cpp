@@ -52,6 +52,15 @@ TEST(GenerateCommand, BadParameterIsAOneLineErrorWithNoOutput) {
     EXPECT_EQ(result.exit_code, 1);
     EXPECT_EQ(result.output, "glintscope: error: sigma_h must be a positive length, got -1 um\n");
     EXPECT_EQ(testing::count_entries(directory.path()), 0);
+    // The output's folder is checked before the surface is generated (the writer's own refusal,
+    // after the work, would begin "cannot write").
+    const std::string nowhere = directory.file("no/such/dir/big.exr");
+    const auto refused = run_cli({"generate", "isotropic", "--size", "8192", "-o", nowhere});
+    EXPECT_EQ(refused.exit_code, 1);
+    EXPECT_EQ(refused.output, "glintscope: error: -o '" + nowhere + "': directory '" + directory.file("no/such/dir") +
+                                  "' does not exist\n");
+    const auto convert = run_cli({"convert", "builtin:isotropic", directory.file("no/out.exr")});
+    EXPECT_NE(convert.output.find("-o '"), std::string::npos) << convert.output;
 }
 
 TEST(GenerateCommand, OptionOfAnotherKindIsRefused) {
