@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <numeric>
 
 #include <OpenImageIO/imagebuf.h>
@@ -82,6 +83,7 @@ std::vector<std::string> caption_lines(const LobeImage& lobe) {
     std::vector<std::string> first = {metadata(lobe, "method").empty() ? "?" : metadata(lobe, "method")};
     if (applies(lobe, "model") && lobe.quantity == Quantity::brdf && !metadata(lobe, "query.model").empty())
         first.push_back(metadata(lobe, "query.model"));
+    if (!metadata(lobe, "gabor.kernels_per_texel").empty()) first.push_back("K = " + metadata(lobe, "gabor.kernels_per_texel"));
     if (applies(lobe, "material") && metadata(lobe, "query.material") != "none" && !metadata(lobe, "query.material").empty())
         first.push_back(metadata(lobe, "query.material"));
     std::vector<std::string> second;
@@ -101,9 +103,18 @@ std::vector<std::string> caption_lines(const LobeImage& lobe) {
     }
     else if (metadata(lobe, "query.footprint") == "whole")
         second.push_back("whole field");
+    std::vector<std::string> surface;
+    if (!metadata(lobe, "query.heightfield").empty())
+        surface.push_back("surface " + std::filesystem::path(metadata(lobe, "query.heightfield")).filename().string());
+    if (!metadata(lobe, "query.centre").empty() && metadata(lobe, "query.footprint") != "whole" &&
+        metadata(lobe, "footprints.count").empty())
+        surface.push_back("centre " + join(split(metadata(lobe, "query.centre"), ','), ", ") + " um");
+    else if (!metadata(lobe, "footprints.count").empty())
+        surface.push_back("mean of " + metadata(lobe, "footprints.count") + " footprints");
     const std::string guides = lobe.quantity == Quantity::brdf ? "rings: theta_o 30, 60 deg; cyan: mirror direction"
                                                                : "rings: theta_h 30, 60 deg; cyan: mean normal n";
-    return {join(first, ", "), join(second, ", "), guides};
+    if (surface.empty()) return {join(first, ", "), join(second, ", "), guides};
+    return {join(first, ", "), join(surface, ", "), join(second, ", "), guides};
 }
 
 // Display value in [0, 1] of a scalar (one-wavelength or NDF) pixel under the exposure.

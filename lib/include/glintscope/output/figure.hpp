@@ -2,7 +2,8 @@
 // Pictures that describe themselves (PNG, display sRGB):
 // - a lobe or NDF panel: the image with the unit-disk outline, θ rings at 30° and 60°, the
 //   mirror direction of ω_i (BRDF) or the mean normal (NDF) marked, a caption (method, model,
-//   material, λ or the spectral range, θ_i/φ_i, footprint), a colour bar (one wavelength) or the
+//   Gabor's K, material; the surface and footprint centre or the number of footprints averaged;
+//   λ or the spectral range where it applies, θ_i/φ_i, footprint size), a colour bar (one wavelength) or the
 //   stated exposure (spectral), and a note when pixels clip;
 // - a figure: a grid of such panels with a title, column and row labels and a caption line,
 //   exposed alike per row or over the whole figure (stated in the caption).
