@@ -13,6 +13,8 @@
 #include "glintscope/core/atomic_output.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
 #include "glintscope/batch/batch.hpp"
+#include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/optics/material.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/output/lobe_output.hpp"
 #include "glintscope/core/text_format.hpp"
@@ -77,7 +79,25 @@ PanelReport compute_panel(const Manifest& manifest, const ManifestPanel& panel, 
             std::move(run.warnings)};
 }
 
-void write_record(const Manifest& manifest, const std::string& path) {
+// A BRDF panel's albedo per wavelength beside its material's Fresnel reflectance F(θ_i) (a flat
+// mirror's albedo; 1 without a material) and their ratio: above 1 the method or model creates
+// energy. Null for an NDF.
+nlohmann::ordered_json albedo_record(const ManifestPanel& panel, const LobeImage& image) {
+    if (image.quantity != Quantity::brdf) return nullptr;
+    const LobeQuery query = check_query_text(panel.query);
+    nlohmann::ordered_json layers = nlohmann::ordered_json::array();
+    for (std::size_t layer = 0; layer < image.layers(); ++layer) {
+        const double albedo = disk_sum(image, layer);
+        const double f = fresnel_reflectance(query.material.name, image.wavelengths_um[layer], query.omega_i.z);
+        layers.push_back({{"wavelength_um", image.wavelengths_um[layer]},
+                          {"albedo", albedo},
+                          {"fresnel", f},
+                          {"albedo_over_fresnel", albedo / f}});
+    }
+    return layers;
+}
+
+void write_record(const Manifest& manifest, const std::string& path, const std::vector<LobeImage>& images) {
     nlohmann::ordered_json record;
     record["format"] = "glintscope batch";
     record["manifest"] = manifest.path;
@@ -86,14 +106,16 @@ void write_record(const Manifest& manifest, const std::string& path) {
     record["rows"] = manifest.row_labels;
     record["columns"] = manifest.column_labels;
     nlohmann::ordered_json panels = nlohmann::ordered_json::array();
-    for (const ManifestPanel& panel : manifest.panels) {
+    for (std::size_t k = 0; k < manifest.panels.size(); ++k) {
+        const ManifestPanel& panel = manifest.panels[k];
         nlohmann::ordered_json query;
         for (const auto& [key, value] : panel.query) query[key] = value;
         panels.push_back({{"row", panel.row},
                           {"column", panel.column},
                           {"method", panel.method},
                           {"query", query},
-                          {"exr", panel_path(manifest, panel)}});
+                          {"exr", panel_path(manifest, panel)},
+                          {"albedo", albedo_record(panel, images[k])}});
     }
     record["panels"] = panels;
     write_text_file(path, record.dump(2) + "\n");
@@ -124,7 +146,7 @@ void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchRe
     figure_output.colour.log_scale = figure_output.colour.log_scale || manifest.log_scale;
     write_figure(figure, result.figure_path, figure_output);
     result.record_path = result.figure_path.substr(0, result.figure_path.size() - 4) + ".json";
-    write_record(manifest, result.record_path);
+    write_record(manifest, result.record_path, images);
     result.assembled = true;
 }
 

@@ -8,6 +8,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
 #include "glintscope/batch/batch.hpp"
@@ -74,6 +75,15 @@ TEST(Batch, TheFigureHasOnePanelPerCellAndRerunsComputeNothing) {
     // Two panel widths at least (each ≥ the 320-pixel disk), two rows of panels.
     EXPECT_GE(figure.spec().width, 2 * panel_size(32));
     EXPECT_GE(figure.spec().height, 2 * panel_size(32));
+    // The record holds each panel's albedo (its EXR's disk sum) and albedo/F (no material: F = 1).
+    std::ifstream record_stream(first.record_path);
+    const nlohmann::json record = nlohmann::json::parse(record_stream);
+    for (std::size_t k = 0; k < manifest.panels.size(); ++k) {
+        const nlohmann::json& albedo = record["panels"][k]["albedo"][0];
+        EXPECT_NEAR(albedo["albedo"].get<double>(), disk_sum(load_lobe_exr(panel_path(manifest, manifest.panels[k]))), 1e-12);
+        EXPECT_EQ(albedo["fresnel"].get<double>(), 1.0);
+        EXPECT_EQ(albedo["albedo_over_fresnel"], albedo["albedo"]);
+    }
     const BatchResult again = run_batch(manifest, {}, {});
     EXPECT_EQ(again.computed, 0u);
     EXPECT_EQ(again.up_to_date, 4u);
