@@ -4,6 +4,7 @@
 
 #include "glintscope/batch/batch.hpp"
 #include "glintscope/core/error.hpp"
+#include "glintscope/fit/ndf_fit.hpp"
 #include "glintscope/lobe/compare.hpp"
 #include "glintscope/output/lobe_output.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
@@ -105,6 +106,19 @@ py::list summary(const Lobe& lobe) {
     return list;
 }
 
+py::dict fit(const Lobe& ndf, const std::string& model) {
+    NdfFit result;
+    {
+        py::gil_scoped_release release;
+        result = fit_ndf(ndf.image, parse_ndf_model_kind(model));
+    }
+    const EllipsoidNdf& p = result.model.parameters;
+    return py::dict(py::arg("model") = to_string(result.model.kind), py::arg("alpha_x") = p.alpha_x,
+                    py::arg("alpha_y") = p.alpha_y, py::arg("theta_x") = p.theta_x, py::arg("theta_y") = p.theta_y,
+                    py::arg("theta_z") = p.theta_z, py::arg("relative_error") = result.relative_error,
+                    py::arg("image") = std::make_shared<Lobe>(Lobe{model_ndf_image(result.model, ndf.image.resolution), {}, {}}));
+}
+
 }  // namespace
 
 void bind_lobe(py::module_& module) {
@@ -184,6 +198,10 @@ void bind_lobe(py::module_& module) {
                py::arg("reference") = "fft", py::arg("models") = std::vector<std::string>{},
                py::arg("kernels_per_texel") = std::vector<int>{}, py::arg("orders") = std::vector<int>{},
                validate_doc.c_str());
+    module.def("fit_ndf", &fit, py::arg("ndf"), py::arg("model") = "ggx",
+               "The CLI's fit: a beckmann, ggx or ellipsoid NDF fitted to layer 0 of an NDF image (L2 over the projected "
+               "disk, Dong 2015 §8): its parameters (alpha_x, alpha_y; angles in radians), relative error and the model "
+               "drawn as an NDF image of the same resolution.");
     module.def("batch", &batch, py::arg("manifest"), py::kw_only(), py::arg("force") = false, py::arg("jobs") = 1,
                "The CLI's `batch`: computes a TOML manifest's panels (those out of date) and writes its figure.");
 }
