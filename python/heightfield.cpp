@@ -135,7 +135,7 @@ std::string recipe_keys_doc() {
 
 void bind_heightfield(py::module_& module) {
     py::class_<Heightfield, std::shared_ptr<Heightfield>>(
-        module, "Heightfield",
+        module, "Heightfield", py::dynamic_attr(),
         "A grid of heights in um, row 0 at the top (largest y), sample spacing texel_um in x and y "
         "(conventions.md). NaN marks a missing point.")
         .def(py::init(&from_array), py::arg("heights"), py::kw_only(), py::arg("texel") = 1.0, py::arg("periodic") = false,

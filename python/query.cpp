@@ -10,6 +10,7 @@
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
 #include "glintscope/surface/heightfield.hpp"
+#include "glintscope/surface/interpolant.hpp"
 
 namespace glintscope::python {
 
@@ -33,6 +34,23 @@ std::set<std::string> method_option_keys() {
 bool is_query_key(const std::string& name) {
     const auto& keys = query_keys();
     return std::any_of(keys.begin(), keys.end(), [&](const QueryKey& key) { return key.name == name; });
+}
+
+// The interpolant of a Heightfield object, built on its first query and kept on the object: a
+// Heightfield never changes (its view is read-only; preparation steps return new objects), and
+// rebuilding it on every call would cost more than a small lobe.
+std::shared_ptr<const BicubicInterpolant> interpolant_of(py::handle heightfield) {
+    using Held = std::shared_ptr<const BicubicInterpolant>;
+    if (py::hasattr(heightfield, "_interpolant"))
+        return *static_cast<Held*>(heightfield.attr("_interpolant").cast<py::capsule>().get_pointer());
+    const auto field = heightfield.cast<std::shared_ptr<Heightfield>>();
+    Held surface;
+    {
+        py::gil_scoped_release release;
+        surface = std::make_shared<const BicubicInterpolant>(*field);
+    }
+    heightfield.attr("_interpolant") = py::capsule(new Held(surface), [](void* held) { delete static_cast<Held*>(held); });
+    return surface;
 }
 
 }  // namespace
@@ -86,11 +104,10 @@ LobeQuery python_query(py::handle heightfield, const py::kwargs& keywords, Quant
     text.insert(text.begin(), {"heightfield", "python"});
     LobeQuery query = check_query_text(text);
     query.source = HeightfieldSource{};  // an object in memory: no file to record
-    const Heightfield& field = heightfield.cast<const Heightfield&>();
-    const bool centre_given = std::any_of(text.begin(), text.end(), [](const auto& entry) { return entry.first == "centre"; });
-    py::gil_scoped_release release;  // the interpolant of a large field takes a while
-    set_heightfield(query, field);
-    if (!centre_given) query.footprint.centre_um = query.field->centre_um();
+    query.field = heightfield.cast<std::shared_ptr<Heightfield>>();  // shared, not copied
+    query.surface = interpolant_of(heightfield);
+    if (std::none_of(text.begin(), text.end(), [](const auto& entry) { return entry.first == "centre"; }))
+        query.footprint.centre_um = query.field->centre_um();
     return query;
 }
 
