@@ -57,7 +57,8 @@ std::shared_ptr<const BicubicInterpolant> interpolant_of(py::handle heightfield)
 
 std::string value_text(py::handle value, const std::string& separator) {
     if (py::isinstance<py::str>(value)) return value.cast<std::string>();
-    if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "yes" : "no";
+    if (py::isinstance<py::bool_>(value) || py::isinstance(value, py::module_::import("numpy").attr("bool_")))
+        return PyObject_IsTrue(value.ptr()) == 1 ? "yes" : "no";
     if (is_sequence(value)) {
         std::vector<std::string> parts;
         for (py::handle item : py::iter(value)) parts.push_back(value_text(item, separator));

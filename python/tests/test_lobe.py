@@ -52,6 +52,18 @@ def test_units_as_strings_or_numbers_in_micrometres(surface):
     assert np.array_equal(a.values, b.values)
     values, metadata = a
     assert metadata["query.sigma_c"] == "5" and values.shape == (1, 24, 24)
+    # NumPy scalars and arrays are values too; booleans are yes/no.
+    c = glintscope.lobe(surface, res=np.int64(24), sigma_c=np.float32(5), lambda_=np.array([0.5]), supersample=2)
+    assert np.array_equal(c.values, a.values)
+
+
+def test_booleans_read_as_yes_and_no(tmp_path, surface):
+    path = str(tmp_path / "f.npy")
+    surface.save(path)
+    edge = dict(res=16, sigma_c=5, centre=(2, 64), supersample=1)
+    assert glintscope.lobe(path, periodic=np.bool_(True), **edge).metadata["query.periodic"] == "yes"
+    with pytest.raises(glintscope.Error, match="non-periodic"):
+        glintscope.lobe(path, periodic=False, **edge)
 
 
 def test_method_options_are_keywords(surface):
