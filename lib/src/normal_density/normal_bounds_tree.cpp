@@ -47,33 +47,15 @@ void image_samples(const BicubicInterpolant& surface, const NormalDensitySetting
     });
 }
 
-// The sub-corner images of the divided cells, evaluated as the image evaluates them.
-void image_sub_corners(const BicubicInterpolant& surface, NormalBoundsTree& tree) {
-    const TexelGrid& grid = tree.grid;
-    const std::size_t cells = tree.subdivision.size();
-    tree.first_sub_corner.assign(cells, 0);
-    std::size_t total = 0;
-    for (std::size_t k = 0; k < cells; ++k) {
-        tree.first_sub_corner[k] = total;
-        const std::size_t n = tree.subdivision[k];
-        if (n > 1) total += (n + 1) * (n + 1);
-    }
-    tree.sub_corners.resize(total);
-    const double t = grid.texel_um, half_resolution = 0.5 * tree.resolution;
-    parallel_for(static_cast<std::size_t>(grid.rows), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
-        std::vector<SurfacePoint> sub;
-        for (std::size_t j = begin; j < end; ++j)
-            for (int i = 0; i < grid.cols; ++i) {
-                const std::size_t cell = j * grid.cols + i;
-                const int n = tree.subdivision[cell];
-                if (n == 1) continue;
-                sub.resize(static_cast<std::size_t>(n + 1) * (n + 1));
-                surface.evaluate_grid((i + 0.5) * t, (static_cast<double>(j) + 0.5) * t, t / n, t / n, n + 1, n + 1,
-                                      sub.data());
-                for (std::size_t k = 0; k < sub.size(); ++k)
-                    tree.sub_corners[tree.first_sub_corner[cell] + k] = normal_pixel(sub[k], half_resolution);
-            }
-    });
+// The normal images of the (n + 1)² sub-corners of texel cell (i, j), row by row from its
+// sample (i, j) in steps of dx/n: the image's evaluation (normal_density.cpp, accumulate_rows).
+void image_sub_corners(const NormalBoundsTree& tree, int i, int j, int n, std::vector<SurfacePoint>& points,
+                       std::vector<Pixel>& pixels) {
+    const double t = tree.grid.texel_um;
+    points.resize(static_cast<std::size_t>(n + 1) * (n + 1));
+    pixels.resize(points.size());
+    tree.surface->evaluate_grid((i + 0.5) * t, (j + 0.5) * t, t / n, t / n, n + 1, n + 1, points.data());
+    for (std::size_t k = 0; k < points.size(); ++k) pixels[k] = normal_pixel(points[k], 0.5 * tree.resolution);
 }
 
 NormalBox box_of(const Pixel* corners, std::size_t count) {
@@ -99,13 +81,16 @@ void build_levels(NormalBoundsTree& tree) {
     const TexelGrid& grid = tree.grid;
     std::vector<NormalBox> leaves(tree.subdivision.size());
     parallel_for(static_cast<std::size_t>(grid.rows), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+        std::vector<SurfacePoint> points;
+        std::vector<Pixel> pixels;
         for (std::size_t j = begin; j < end; ++j) {
             const std::size_t above = (j + 1) % grid.rows;
             for (int i = 0; i < grid.cols; ++i) {
                 const std::size_t cell = j * grid.cols + i;
                 const int n = tree.subdivision[cell];
                 if (n > 1) {
-                    leaves[cell] = box_of(&tree.sub_corners[tree.first_sub_corner[cell]], std::size_t(n + 1) * (n + 1));
+                    image_sub_corners(tree, i, static_cast<int>(j), n, points, pixels);
+                    leaves[cell] = box_of(pixels.data(), pixels.size());
                     continue;
                 }
                 const int right = (i + 1) % grid.cols;
@@ -116,27 +101,36 @@ void build_levels(NormalBoundsTree& tree) {
             }
         }
     });
-    tree.levels = {std::move(leaves)};
     tree.level_cols = {grid.cols};
     tree.level_rows = {grid.rows};
+    tree.children.clear();
+    std::vector<NormalBox> below = std::move(leaves);
+    constexpr float kInfinity = std::numeric_limits<float>::infinity();
+    const NormalBox empty{kInfinity, -kInfinity, kInfinity, -kInfinity};
     while (tree.level_cols.back() > 1 || tree.level_rows.back() > 1) {
-        const std::vector<NormalBox>& below = tree.levels.back();
         const int below_cols = tree.level_cols.back(), below_rows = tree.level_rows.back();
         const int cols = (below_cols + 1) / 2, rows = (below_rows + 1) / 2;
-        std::vector<NormalBox> level(static_cast<std::size_t>(cols) * rows);
+        std::vector<NormalBoundsTree::Children> blocks(static_cast<std::size_t>(cols) * rows);
+        std::vector<NormalBox> level(blocks.size());
         for (int j = 0; j < rows; ++j)
             for (int i = 0; i < cols; ++i) {
-                NormalBox box = below[static_cast<std::size_t>(2 * j) * below_cols + 2 * i];
+                NormalBoundsTree::Children& block = blocks[static_cast<std::size_t>(j) * cols + i];
+                NormalBox box = empty;
                 for (int b = 0; b < 2; ++b)
-                    for (int a = 0; a < 2; ++a)
-                        if (2 * i + a < below_cols && 2 * j + b < below_rows)
-                            box = united(box, below[static_cast<std::size_t>(2 * j + b) * below_cols + 2 * i + a]);
+                    for (int a = 0; a < 2; ++a) {
+                        const bool inside = 2 * i + a < below_cols && 2 * j + b < below_rows;
+                        block.boxes[2 * b + a] =
+                            inside ? below[static_cast<std::size_t>(2 * j + b) * below_cols + 2 * i + a] : empty;
+                        if (inside) box = united(box, block.boxes[2 * b + a]);
+                    }
                 level[static_cast<std::size_t>(j) * cols + i] = box;
             }
-        tree.levels.push_back(std::move(level));
+        tree.children.push_back(std::move(blocks));
+        below = std::move(level);
         tree.level_cols.push_back(cols);
         tree.level_rows.push_back(rows);
     }
+    tree.root = below[0];
 }
 
 // ---- The query ------------------------------------------------------------------------------
@@ -225,7 +219,11 @@ struct Query {
             return pair(tree.samples[row + i], tree.samples[row + right], tree.samples[above + i],
                         tree.samples[above + right], x, y);
         }
-        const Pixel* p = &tree.sub_corners[tree.first_sub_corner[cell]];
+        // Scratch kept per thread: no allocation once a thread has met its largest subdivision.
+        thread_local std::vector<SurfacePoint> points;
+        thread_local std::vector<Pixel> pixels;
+        image_sub_corners(tree, i, j, n, points, pixels);
+        const Pixel* p = pixels.data();
         const std::size_t stride = static_cast<std::size_t>(n) + 1;
         double sum = 0.0;
         for (int b = 0; b < n; ++b)
@@ -256,32 +254,52 @@ struct Query {
         return dx * dx + dy * dy > weight.cutoff_squared * (1.0 + 1e-9);
     }
 
+    // Whether node (i, j) of a level with this box, whose cells are [lo, hi) clipped to the
+    // piece, may contribute.
+    bool may_contribute(const NormalBox& box, int lo_x, int hi_x, int lo_y, int hi_y, long long ox, long long oy) const {
+        if (lo_x >= hi_x || lo_y >= hi_y) return false;
+        return !prune || (holds(box) && !beyond_cutoff(lo_x + ox, hi_x + ox, lo_y + oy, hi_y + oy));
+    }
+
     // The cells of the field [x0, x1) × [y0, y1), which stand at unwrapped (I + ox, J + oy):
-    // depth first through the levels, skipping the nodes that cannot contribute.
+    // depth first through the levels, testing a node's four children together and skipping
+    // those that cannot contribute; cells are summed in the same order with pruning or without.
     double piece(int x0, int x1, int y0, int y1, long long ox, long long oy) const {
         struct Node {
             int level, i, j;
         };
+        const int top_level = static_cast<int>(tree.level_cols.size()) - 1;
+        const auto clipped = [&](int level, int i, int j, int& lo_x, int& hi_x, int& lo_y, int& hi_y) {
+            lo_x = std::max(x0, i << level), hi_x = std::min(x1, (i + 1) << level);
+            lo_y = std::max(y0, j << level), hi_y = std::min(y1, (j + 1) << level);
+        };
+        int lo_x, hi_x, lo_y, hi_y;
+        clipped(top_level, 0, 0, lo_x, hi_x, lo_y, hi_y);
+        if (!may_contribute(tree.root, lo_x, hi_x, lo_y, hi_y, ox, oy)) return 0.0;
+        if (top_level == 0) return cell_density(0, 0, ox, oy);
         std::array<Node, 4 * 40> stack;
         int top = 0;
-        stack[top++] = {static_cast<int>(tree.levels.size()) - 1, 0, 0};
+        stack[top++] = {top_level, 0, 0};
         double sum = 0.0;
         while (top > 0) {
             const Node node = stack[--top];
-            const int lo_x = std::max(x0, node.i << node.level), hi_x = std::min(x1, (node.i + 1) << node.level);
-            const int lo_y = std::max(y0, node.j << node.level), hi_y = std::min(y1, (node.j + 1) << node.level);
-            if (lo_x >= hi_x || lo_y >= hi_y) continue;
-            if (prune) {
-                const NormalBox& box = tree.levels[node.level][static_cast<std::size_t>(node.j) * tree.level_cols[node.level] + node.i];
-                if (!holds(box) || beyond_cutoff(lo_x + ox, hi_x + ox, lo_y + oy, hi_y + oy)) continue;
-            }
-            if (node.level == 0) {
-                sum += cell_density(node.i, node.j, node.i + ox, node.j + oy);
+            const NormalBoundsTree::Children& block =
+                tree.children[node.level - 1][static_cast<std::size_t>(node.j) * tree.level_cols[node.level] + node.i];
+            const int child_level = node.level - 1;
+            Node passed[4];
+            int count = 0;
+            for (int b = 0; b < 2; ++b)
+                for (int a = 0; a < 2; ++a) {
+                    const int i = 2 * node.i + a, j = 2 * node.j + b;
+                    clipped(child_level, i, j, lo_x, hi_x, lo_y, hi_y);
+                    if (may_contribute(block.boxes[2 * b + a], lo_x, hi_x, lo_y, hi_y, ox, oy))
+                        passed[count++] = {child_level, i, j};
+                }
+            if (child_level == 0) {
+                for (int k = 0; k < count; ++k) sum += cell_density(passed[k].i, passed[k].j, passed[k].i + ox, passed[k].j + oy);
                 continue;
             }
-            // Children pushed in reverse, so that cells are visited in the same order either way.
-            for (int b = 1; b >= 0; --b)
-                for (int a = 1; a >= 0; --a) stack[top++] = {node.level - 1, 2 * node.i + a, 2 * node.j + b};
+            while (count > 0) stack[top++] = passed[--count];  // reversed: popped in order
         }
         return sum;
     }
@@ -291,15 +309,15 @@ long long floor_div(long long a, long long b) { return a >= 0 ? a / b : -((-a + 
 
 }  // namespace
 
-NormalBoundsTree make_normal_bounds_tree(const BicubicInterpolant& surface, const NormalDensitySettings& settings,
-                                         int resolution) {
+NormalBoundsTree make_normal_bounds_tree(std::shared_ptr<const BicubicInterpolant> surface,
+                                         const NormalDensitySettings& settings, int resolution) {
     check_normal_density_settings(resolution, settings);
     NormalBoundsTree tree;
-    tree.grid = texel_grid(surface);
+    tree.grid = texel_grid(*surface);
     tree.resolution = resolution;
     tree.intrinsic_roughness = settings.intrinsic_roughness;
-    image_samples(surface, settings, tree);
-    image_sub_corners(surface, tree);
+    tree.surface = std::move(surface);
+    image_samples(*tree.surface, settings, tree);
     build_levels(tree);
     return tree;
 }

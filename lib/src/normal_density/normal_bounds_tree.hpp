@@ -25,8 +25,10 @@
 // Gaussian and whole-field footprints only: a box's lattice follows its edges, not the texels
 // (point_normal_density throws Error for one). Immutable once built, safe from many threads, no
 // allocation per query.
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "glintscope/core/geometry.hpp"
@@ -52,20 +54,29 @@ struct NormalBoundsTree {
     // Normal images, pixel units: sample (c, j) at j·cols + c (y-up rows, at ((c + ½)dx, (j + ½)dx)).
     std::vector<Pixel> samples;
     // Per texel cell (i, j) between samples (i, j) and (i + 1, j + 1), at j·cols + i: its
-    // subdivision n and, for n > 1, the first of its (n + 1)² sub-corner images (row by row from
-    // the sample (i, j), steps dx/n) in sub_corners.
+    // subdivision n. A divided cell's (n + 1)² sub-corners are evaluated again when a query
+    // reaches it (the same calls as the image's, so the same values): on the isotropic builtin
+    // at the 256² defaults most texels are divided 5–9 times, and storing their corners would
+    // take a gigabyte per 1024² of field.
     std::vector<std::uint8_t> subdivision;
-    std::vector<std::size_t> first_sub_corner;
-    std::vector<Pixel> sub_corners;
-    // levels[0]: one box per texel cell; levels[k]: per block of 2^k × 2^k cells,
-    // level_cols[k] × level_rows[k] of them (ceil of the halving); the last level is 1 × 1.
-    std::vector<std::vector<NormalBox>> levels;
+    std::shared_ptr<const BicubicInterpolant> surface;
+    // Level 0 holds one node per texel cell, level k one per block of 2^k × 2^k cells,
+    // level_cols[k] × level_rows[k] of them (ceil of the halving), up to a 1 × 1 level.
+    // children[k − 1][j·level_cols[k] + i] holds the boxes of node (i, j)'s children (level k − 1)
+    // together, as 4 × 16 bytes in one cache line: a query's cost is its cache misses (the
+    // boxes of a 1024² field take 21 MB), one per node whose children it tests. A child past the
+    // field's edge has an empty box.
+    struct alignas(64) Children {
+        std::array<NormalBox, 4> boxes;  // child (2i + a, 2j + b) at 2b + a
+    };
+    std::vector<std::vector<Children>> children;
     std::vector<int> level_cols, level_rows;
+    NormalBox root;
 };
 
 // Throws Error on bad settings or resolution as normal_density() does.
-NormalBoundsTree make_normal_bounds_tree(const BicubicInterpolant& surface, const NormalDensitySettings& settings,
-                                         int resolution);
+NormalBoundsTree make_normal_bounds_tree(std::shared_ptr<const BicubicInterpolant> surface,
+                                         const NormalDensitySettings& settings, int resolution);
 
 // Whether the query skips the nodes whose normal box or cell rectangle cannot contribute; off
 // visits every triangle of the support (tests: pruning must not change the result).

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <thread>
 
@@ -65,27 +66,27 @@ TEST(NormalBoundsTree, PixelMeanOfThePointQueryIsTheImagePixel) {
     // The same triangles (adaptive subdivision included): the image holds each pixel's exact
     // share, the K × K mean is a quadrature of it. On a rough surface the folds' caustics make D
     // singular (as 1/√distance), so the quadrature converges slowly: measured at N = 16, relative
-    // L2 over the image 0.36 (K = 4), 0.033 (K = 16), and at the 6 largest pixels K = 256 is
-    // within 1.0% of each (K = 512: 0.7%, reaching the image as K grows).
-    const BicubicInterpolant surface(isotropic_field(96));
+    // L2 over the image 0.36 (K = 4), 0.033 (K = 16), and at the 3 largest pixels K = 256 is
+    // within 0.5% of each (K = 512: 0.2%, reaching the image as K grows).
+    const auto surface = std::make_shared<const BicubicInterpolant>(isotropic_field(96));
     const Footprint footprint = gaussian_at({40.0, 50.0}, 8.0);
     const int n = 16;
     const NormalDensitySettings settings;
     ASSERT_GT(settings.tolerance_pixels, 0.0);
-    const std::vector<double> image = normal_density(surface, footprint, n, settings);
+    const std::vector<double> image = normal_density(*surface, footprint, n, settings);
     const NormalBoundsTree tree = make_normal_bounds_tree(surface, settings, n);
     const double error = relative_l2(pixel_means(tree, footprint, n, 16), image);
     RecordProperty("relative_l2_k16", ::testing::PrintToString(error));
     EXPECT_LT(error, 0.05);
     std::vector<int> largest(image.size());
     for (std::size_t k = 0; k < image.size(); ++k) largest[k] = static_cast<int>(k);
-    std::partial_sort(largest.begin(), largest.begin() + 6, largest.end(), [&](int a, int b) { return image[a] > image[b]; });
-    for (int i = 0; i < 6; ++i) {
+    std::partial_sort(largest.begin(), largest.begin() + 3, largest.end(), [&](int a, int b) { return image[a] > image[b]; });
+    for (int i = 0; i < 3; ++i) {
         const int row = largest[i] / n, col = largest[i] % n, k = 256;
         double sum = 0.0;
         for (int b = 0; b < k; ++b)
             for (int a = 0; a < k; ++a) sum += point_normal_density(tree, footprint, disk_subpixel_point(row, col, b, a, n, k));
-        EXPECT_NEAR(sum / (k * k), image[largest[i]], 0.015 * image[largest[i]]) << row << "," << col;
+        EXPECT_NEAR(sum / (k * k), image[largest[i]], 0.01 * image[largest[i]]) << row << "," << col;
     }
 }
 
@@ -96,14 +97,14 @@ TEST(NormalBoundsTree, PointValuesAtPixelCentresMatchASmoothSurfacesImage) {
     // 0.018 at the pixel centres, 0.0021 for the 4 × 4 means (σ_c = 10 µm: 0.049 and 0.0060).
     const double a = 0.008, b = 0.006, c = 0.002;
     const Point2 origin{58.0, 70.0};
-    const BicubicInterpolant surface(sampled_field(128, 128, 1.0, [&](double x, double y) {
+    const auto surface = std::make_shared<const BicubicInterpolant>(sampled_field(128, 128, 1.0, [&](double x, double y) {
         const double u = x - origin.x, v = y - origin.y;
         return 0.5 * a * u * u + 0.5 * b * v * v + c * u * v;
     }));
     const Footprint footprint = gaussian_at({64.0, 64.0}, 20.0);
     const int n = 64;
     const NormalDensitySettings undivided{1, 0.0, 0.0};  // the field's seam would be divided 64-fold
-    const std::vector<double> image = normal_density(surface, footprint, n, undivided);
+    const std::vector<double> image = normal_density(*surface, footprint, n, undivided);
     const NormalBoundsTree tree = make_normal_bounds_tree(surface, undivided, n);
     const double at_centres = relative_l2(pixel_means(tree, footprint, n, 1), image);
     const double means = relative_l2(pixel_means(tree, footprint, n, 4), image);
@@ -117,7 +118,7 @@ TEST(NormalBoundsTree, IntegratesToOneOverTheDisk) {
     // ∫ D dA over the disk by the 4 × 4 means of 128² pixels on a rough surface, for a Gaussian
     // footprint and the whole field: a quadrature across the caustics (measured 1.0030 and
     // 0.9985); a wrong scale of D (pixel units, the truncation) would be far outside.
-    const BicubicInterpolant surface(isotropic_field(64));
+    const auto surface = std::make_shared<const BicubicInterpolant>(isotropic_field(64));
     const int n = 64;
     const NormalBoundsTree tree = make_normal_bounds_tree(surface, {}, n);
     Footprint whole;
@@ -136,7 +137,7 @@ TEST(NormalBoundsTree, TiltedPlaneSitsAtItsNormal) {
     // Every triangle's image is the plane's normal m0: without roughness D is zero everywhere
     // else; with roughness σ it is the Gaussian exp(−|h − m0|²/2σ²)/(2πσ²) of the disk.
     const double sx = 0.3, sy = -0.2;
-    const BicubicInterpolant surface(sampled_field(64, 64, 1.0, [&](double x, double y) { return sx * x + sy * y; }));
+    const auto surface = std::make_shared<const BicubicInterpolant>(sampled_field(64, 64, 1.0, [&](double x, double y) { return sx * x + sy * y; }));
     const double norm = std::sqrt(1.0 + sx * sx + sy * sy);
     const DiskPoint m0{-sx / norm, -sy / norm};
     const Footprint footprint = gaussian_at({32.0, 32.0}, 4.0);  // inside the tile, away from the wrap
@@ -156,26 +157,26 @@ TEST(NormalBoundsTree, PruningNeverChangesTheResult) {
     // Subdivided cells (the adaptive tolerance at N = 64 divides many texels of this surface),
     // a Gaussian and the whole field, with and without roughness: the pruned query skips only
     // zeros, so it is the brute-force sum over every triangle of the support, bit for bit.
-    const BicubicInterpolant surface(isotropic_field(64));
+    const auto surface = std::make_shared<const BicubicInterpolant>(isotropic_field(64));
     Footprint whole;
     whole.shape = FootprintShape::whole;
     for (double roughness : {0.0, 0.03}) {
         const NormalBoundsTree tree = make_normal_bounds_tree(surface, {1, 0.02, roughness}, 64);
-        ASSERT_FALSE(tree.sub_corners.empty());
+        ASSERT_GT(*std::max_element(tree.subdivision.begin(), tree.subdivision.end()), 1);
         int nonzero = 0;
         for (const Footprint& footprint : {gaussian_at({5.0, 60.0}, 7.0), whole})
-            for (int k = 0; k < 200; ++k) {
+            for (int k = 0; k < 100; ++k) {
                 const DiskPoint h{0.3 * std::cos(0.7 * k) * (k % 17) / 17.0, 0.3 * std::sin(0.7 * k) * (k % 13) / 13.0};
                 const double pruned = point_normal_density(tree, footprint, h, Pruning::on);
                 EXPECT_EQ(pruned, point_normal_density(tree, footprint, h, Pruning::off)) << k;
                 nonzero += pruned > 0.0;
             }
-        EXPECT_GT(nonzero, 100) << "the points miss the distribution";
+        EXPECT_GT(nonzero, 50) << "the points miss the distribution";
     }
 }
 
 TEST(NormalBoundsTree, ManyThreadsGiveTheSameAnswers) {
-    const BicubicInterpolant surface(isotropic_field(64));
+    const auto surface = std::make_shared<const BicubicInterpolant>(isotropic_field(64));
     const NormalBoundsTree tree = make_normal_bounds_tree(surface, {}, 64);
     constexpr int kQueries = 4000;
     const auto query = [&](int k) {
@@ -199,8 +200,8 @@ TEST(NormalBoundsTree, StraddlingFootprintEqualsTheShiftedFields) {
     Heightfield shifted = field;
     for (int r = 0; r < field.rows; ++r)
         for (int c = 0; c < field.cols; ++c) shifted.at((r + 32) % 64, (c + 32) % 64) = field.at(r, c);
-    const NormalBoundsTree tree = make_normal_bounds_tree(BicubicInterpolant(field), {}, 64);
-    const NormalBoundsTree shifted_tree = make_normal_bounds_tree(BicubicInterpolant(shifted), {}, 64);
+    const NormalBoundsTree tree = make_normal_bounds_tree(std::make_shared<const BicubicInterpolant>(field), {}, 64);
+    const NormalBoundsTree shifted_tree = make_normal_bounds_tree(std::make_shared<const BicubicInterpolant>(shifted), {}, 64);
     int nonzero = 0;
     for (int k = 0; k < 300; ++k) {
         const DiskPoint h{0.25 * std::cos(0.9 * k) * (k % 11) / 11.0, 0.25 * std::sin(0.9 * k) * (k % 7) / 7.0};
@@ -215,21 +216,21 @@ TEST(NormalBoundsTree, StraddlingFootprintEqualsTheShiftedFields) {
 TEST(NormalBoundsTree, IntrinsicRoughnessMatchesTheBlurredImage) {
     // The image blurs its pixels (4σ kernel, mass past the rim restored); the query blurs each
     // triangle by the edge-midpoint rule. Measured relative L2 of the 2 × 2 pixel means: 4.3e-3
-    // at σ = 0.08 (1.9 pixels); at σ = 0.04 (1 pixel) 0.018, where the image's point-sampled
-    // kernel is itself coarse.
-    const BicubicInterpolant surface(isotropic_field(64));
+    // at σ = 0.08 (1.9 pixels; 4.4e-3 at the pixel centres); at σ = 0.04 (1 pixel) 0.018, where
+    // the image's point-sampled kernel is itself coarse.
+    const auto surface = std::make_shared<const BicubicInterpolant>(isotropic_field(64));
     const Footprint footprint = gaussian_at({30.0, 20.0}, 6.0);
     const NormalDensitySettings settings{1, 0.02, 0.08};
     const int n = 48;
-    const std::vector<double> image = normal_density(surface, footprint, n, settings);
+    const std::vector<double> image = normal_density(*surface, footprint, n, settings);
     const NormalBoundsTree tree = make_normal_bounds_tree(surface, settings, n);
-    const double error = relative_l2(pixel_means(tree, footprint, n, 2), image);
+    const double error = relative_l2(pixel_means(tree, footprint, n, 1), image);
     RecordProperty("relative_l2", ::testing::PrintToString(error));
     EXPECT_LT(error, 0.01);
 }
 
 TEST(NormalBoundsTree, BoxFootprintsAndBadSettingsAreRefused) {
-    const BicubicInterpolant surface(isotropic_field(32));
+    const auto surface = std::make_shared<const BicubicInterpolant>(isotropic_field(32));
     const NormalBoundsTree tree = make_normal_bounds_tree(surface, {}, 32);
     Footprint box;
     box.shape = FootprintShape::box;

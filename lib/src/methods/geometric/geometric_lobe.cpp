@@ -62,12 +62,10 @@ NormalDensitySettings table_density_settings(const LobeQuery& query, const Geome
 }
 
 // The field whose normals D counts: the heightfield's interpolant, or the filtered NDF's
-// smoothed one (Dong 2015 §5.1), handed to `use`.
-template <typename Use>
-auto with_ndf_surface(const LobeQuery& query, const GeometricSettings& settings, Use use) {
-    if (!settings.filtered) return use(*query.surface);
-    const BicubicInterpolant smoothed(gaussian_smoothed(*query.field, settings.filter_sigma_um));
-    return use(smoothed);
+// smoothed one (Dong 2015 §5.1).
+std::shared_ptr<const BicubicInterpolant> ndf_surface(const LobeQuery& query, const GeometricSettings& settings) {
+    if (!settings.filtered) return query.surface;
+    return std::make_shared<const BicubicInterpolant>(gaussian_smoothed(*query.field, settings.filter_sigma_um));
 }
 
 DiskTable density_table(const LobeQuery& query, const GeometricSettings& settings) {
@@ -81,9 +79,7 @@ DiskTable density_table(const LobeQuery& query, const GeometricSettings& setting
         table.resolution = std::min(std::max(table.resolution, int(std::ceil(200.0 * tan_i))), 8192);
     }
     const NormalDensitySettings density = table_density_settings(query, settings, table.resolution);
-    table.values = with_ndf_surface(query, settings, [&](const BicubicInterpolant& surface) {
-        return normal_density(surface, query.footprint, table.resolution, density);
-    });
+    table.values = normal_density(*ndf_surface(query, settings), query.footprint, table.resolution, density);
     return table;
 }
 
@@ -323,9 +319,8 @@ PointAnswersAt geometric_point_field(const LobeQuery& query) {
     if (settings.shadowing != Shadowing::none) return [](const Footprint&) { return PointAnswers{}; };
     const int resolution = table_resolution(query, settings);
     const NormalDensitySettings density = table_density_settings(query, settings, resolution);
-    auto tree = std::make_shared<const NormalBoundsTree>(with_ndf_surface(
-        query, settings,
-        [&](const BicubicInterpolant& surface) { return make_normal_bounds_tree(surface, density, resolution); }));
+    auto tree = std::make_shared<const NormalBoundsTree>(
+        make_normal_bounds_tree(ndf_surface(query, settings), density, resolution));
     const std::vector<ComplexIndex> indices = refractive_indices(query);
     const std::size_t layers = query.wavelengths_um.size();
     return [tree, indices, layers](const Footprint& footprint) -> PointAnswers {

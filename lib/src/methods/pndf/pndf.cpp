@@ -55,7 +55,7 @@ LobeImage patch_ndf(const LobeQuery& query) {
 // D(h) for any footprint from one tree over the field (eval(·, h): an NDF's point answer).
 PointAnswersAt pndf_point_field(const LobeQuery& query) {
     auto tree = std::make_shared<const NormalBoundsTree>(
-        make_normal_bounds_tree(*query.surface, normal_density_settings(query), query.resolution));
+        make_normal_bounds_tree(query.surface, normal_density_settings(query), query.resolution));
     const std::size_t layers = query.wavelengths_um.size();
     return [tree, layers](const Footprint& footprint) -> PointAnswers {
         if (!answers_points(footprint)) return {};
