@@ -39,11 +39,15 @@ DiskDistribution image_distribution(const LobeImage& image) {
 
 // The method's own single-direction answers for the planned query, if it has any.
 PointAnswers point_answers(const std::string& method, const LobeQuery& planned) {
-    for (const MethodEntry& entry : method_table()) {
-        if (entry.info.name != method) continue;
-        if (entry.point_field) return entry.point_field(planned)(planned.footprint);
-        if (entry.point) return entry.point(planned);
-    }
+    for (const MethodEntry& entry : method_table())
+        if (entry.info.name == method && entry.point) return entry.point(planned);
+    return {};
+}
+
+// An NDF method's D(h) for the planned query's footprint from its point field, if it has one.
+PointAnswers ndf_point_answers(const std::string& method, const LobeQuery& planned) {
+    for (const MethodEntry& entry : method_table())
+        if (entry.info.name == method && entry.point_field) return entry.point_field(planned)(planned.footprint);
     return {};
 }
 
@@ -209,7 +213,7 @@ Ndf make_ndf(const std::string& method, const LobeQuery& query) {
     const LobeQuery planned = table_query(method, query, Quantity::ndf);
     PointAnswers point;
     try {
-        point = point_answers(method, planned);
+        point = ndf_point_answers(method, planned);
     } catch (const Error& e) {
         throw Error(method + ": " + e.what());
     }
