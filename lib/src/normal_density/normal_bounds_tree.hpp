@@ -6,8 +6,8 @@
 //
 // Built once per interpolant, settings and image resolution (the resolution fixes the pixel
 // units of the adaptive subdivision's tolerance, so the triangles are exactly the image's): the
-// normal images of every texel sample and of the sub-cells' corners where a texel is divided, and
-// a quadtree over the texel cells (mip levels, like GaborSurface's) whose nodes hold the bounding
+// normal images of every texel sample, each texel's subdivision (a divided texel's sub-corners
+// are evaluated again by the query that reaches it), and a quadtree over the texel cells (mip levels, like GaborSurface's) whose nodes hold the bounding
 // box of their triangles' normal images. A query visits only the nodes that overlap the
 // footprint's truncated support and whose box holds the normal:
 //   D(h) = Σ over triangles whose image holds h of weight(centroid) · area / image area,
