@@ -44,6 +44,13 @@ PointAnswers point_answers(const std::string& method, const LobeQuery& planned) 
     return {};
 }
 
+// An NDF method's D(h) for the planned query's footprint from its point field, if it has one.
+PointAnswers ndf_point_answers(const std::string& method, const LobeQuery& planned) {
+    for (const MethodEntry& entry : method_table())
+        if (entry.info.name == method && entry.point_field) return entry.point_field(planned)(planned.footprint);
+    return {};
+}
+
 // Supersampling of the albedo's sum over eval: the image's rule (geometry.hpp) at K = 4.
 constexpr int kAlbedoSupersample = 4;
 
@@ -172,7 +179,8 @@ Bsdf make_bsdf(const std::string& method, const LobeQuery& query) {
 }
 
 struct Ndf::State {
-    DiskDistribution table;
+    DiskDistribution table;  // sampling, and D where the method has no point query
+    PointAnswers point;      // D(h) as point.eval(·, h)
 };
 
 Ndf::Ndf(std::shared_ptr<const State> state) : state_(std::move(state)) {}
@@ -180,8 +188,11 @@ Ndf::Ndf(std::shared_ptr<const State> state) : state_(std::move(state)) {}
 std::vector<double> Ndf::eval(Vec3 h) const {
     h = unit_direction(h, "h");
     if (h.z <= 0.0) return std::vector<double>(state_->table.layers, 0.0);
+    if (state_->point.eval) return state_->point.eval({0.0, 0.0, 1.0}, h);
     return values_at(state_->table, h.x, h.y);
 }
+
+bool Ndf::evaluates_directly() const { return static_cast<bool>(state_->point.eval); }
 
 double Ndf::pdf(Vec3 h) const {
     h = unit_direction(h, "h");
@@ -200,7 +211,14 @@ std::vector<double> Ndf::normalisation() const { return state_->table.integral; 
 
 Ndf make_ndf(const std::string& method, const LobeQuery& query) {
     const LobeQuery planned = table_query(method, query, Quantity::ndf);
-    return Ndf(std::make_shared<const Ndf::State>(Ndf::State{image_distribution(compute_lobe(method, planned))}));
+    PointAnswers point;
+    try {
+        point = ndf_point_answers(method, planned);
+    } catch (const Error& e) {
+        throw Error(method + ": " + e.what());
+    }
+    return Ndf(std::make_shared<const Ndf::State>(
+        Ndf::State{image_distribution(compute_lobe(method, planned)), std::move(point)}));
 }
 
 }  // namespace glintscope

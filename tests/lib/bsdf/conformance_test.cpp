@@ -360,17 +360,36 @@ TEST(BsdfReciprocity, ReciprocalModelsAndMethodsAreSymmetricAndOhsIsNot) {
 
 class NdfConformance : public ::testing::TestWithParam<MethodCase> {};
 
+// An NDF from its image reads the image's pixels (1e-4). A point query (pndf's, normal_density/
+// normal_bounds_tree.hpp) is D at h itself, whose mean over a pixel is the pixel: its 24 × 24
+// means are held to 7% relative L2 of the image (measured at N = 40: 0.114 at K = 8, 0.047 at
+// K = 24: the caustics of the rough surface make D singular along folds, and the quadrature
+// converges as 1/K).
 TEST_P(NdfConformance, SamplesFollowThePdfAndDIsTheImage) {
     const LobeQuery query = isotropic_query(Quantity::ndf);
     const Ndf ndf = make_ndf(GetParam().method.name, query);
     const LobeImage image = compute_lobe(GetParam().method.name, query);
+    const int k = ndf.evaluates_directly() ? 24 : 1;
+    double difference = 0.0, norm = 0.0;
     for (int row = 0; row < kResolution; ++row)
         for (int col = 0; col < kResolution; ++col) {
             const DiskPoint p = disk_pixel_point(row, col, kResolution);
             if (!inside_unit_disk(p)) continue;
-            ASSERT_NEAR(ndf.eval(direction_from_disk(p.x, p.y))[0], image.at(0, row, col),
-                        1e-4 * image.at(0, row, col));
+            double mean = 0.0;
+            for (int b = 0; b < k; ++b)
+                for (int a = 0; a < k; ++a) {
+                    const DiskPoint q = disk_subpixel_point(row, col, b, a, kResolution, k);
+                    if (inside_unit_disk(q)) mean += ndf.eval(direction_from_disk(q.x, q.y))[0] / (k * k);
+                }
+            const double pixel = image.at(0, row, col);
+            if (k == 1) {
+                ASSERT_NEAR(mean, pixel, 1e-4 * pixel) << row << "," << col;
+            }
+            difference += (mean - pixel) * (mean - pixel);
+            norm += pixel * pixel;
         }
+    RecordProperty("relative_l2", ::testing::PrintToString(std::sqrt(difference / norm)));
+    EXPECT_LT(std::sqrt(difference / norm), 0.07);
     const double image_sum = disk_integral(image, 0);
     EXPECT_NEAR(ndf.normalisation()[0], image_sum, 1e-3 * image_sum);
     const CounterRng rng(22, 4);

@@ -21,6 +21,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+using testing::isotropic_field;
 using testing::sampled_field;
 
 double total_mass(const std::vector<double>& density, int resolution) {
@@ -51,12 +52,6 @@ Footprint whole_field() {
     return footprint;
 }
 
-// A smaller field with the isotropic builtin's recipe (1 µm texel, T = 10 µm, rms slope 0.17).
-Heightfield isotropic_field(int size) {
-    Recipe recipe = default_recipe("isotropic");
-    recipe.grid.rows = recipe.grid.cols = size;
-    return generate(recipe);
-}
 
 TEST(NormalDensity, PlanePutsAllWeightInThePixelOfItsNormal) {
     const double a = 0.3, b = -0.2;

@@ -67,11 +67,15 @@ struct NdfSample {
 };
 
 // A method's normal distribution of one footprint as a function: D(h), and h sampled by
-// projected area (pdf = D(h) h_z / ∫ D h_z dω). Same sharing and threading as Bsdf.
+// projected area (pdf = D(h) h_z / ∫ D h_z dω). Same sharing and threading as Bsdf. D is the
+// method's point query where it has one (pndf: the exact D at h, whose mean over an image pixel
+// is the pixel), else the pixel of its image holding h; sampling is always from the image.
 class Ndf {
 public:
     // D(h) per wavelength of the query (one value for wavelength-independent methods' copies).
     std::vector<double> eval(Vec3 h) const;
+    // Whether eval is the method's point query (else its image's pixels).
+    bool evaluates_directly() const;
     NdfSample sample(double u1, double u2) const;
     double pdf(Vec3 h) const;
     // ∫ D(h) h_z dω_h per wavelength: 1 for a normalised NDF whose mass lies on the disk.
