@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <vector>
 #include <exception>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -76,7 +77,9 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "glintscope " + glintscope::version());
     // Subcommands pass options they do not know (--threads) up to the main command.
     app.fallthrough();
-    app.add_option_function<int>("--threads", [](int threads) { glintscope::set_thread_count(threads); },
+    // The subcommands run on this thread, inside this scope (the library's count is per thread).
+    std::optional<glintscope::ThreadScope> threads_scope;
+    app.add_option_function<int>("--threads", [&](int threads) { threads_scope.emplace(threads); },
                                  "Worker threads (default: all cores; results do not depend on it)")
         ->check(CLI::NonNegativeNumber)
         ->trigger_on_parse();

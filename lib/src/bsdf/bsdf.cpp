@@ -39,8 +39,11 @@ DiskDistribution image_distribution(const LobeImage& image) {
 
 // The method's own single-direction answers for the planned query, if it has any.
 PointAnswers point_answers(const std::string& method, const LobeQuery& planned) {
-    for (const MethodEntry& entry : method_table())
-        if (entry.info.name == method && entry.point) return entry.point(planned);
+    for (const MethodEntry& entry : method_table()) {
+        if (entry.info.name != method) continue;
+        if (entry.point_field && !entry.bsdf_from_images) return entry.point_field(planned)(planned.footprint);
+        if (entry.point) return entry.point(planned);
+    }
     return {};
 }
 

@@ -384,11 +384,8 @@ TEST(NormalDensity, IntrinsicRoughnessBlursAPlaneIntoAGaussianOfThatWidth) {
 TEST(NormalDensity, SameBitsForOneAndFourThreads) {
     const BicubicInterpolant surface(isotropic_field(128));
     const Footprint footprint = gaussian_at({30.0, 90.0}, 10.0);
-    set_thread_count(1);
-    const std::vector<double> one = normal_density(surface, footprint, 96, {});
-    set_thread_count(4);
-    const std::vector<double> four = normal_density(surface, footprint, 96, {});
-    set_thread_count(0);
+    const std::vector<double> one = with_threads(1, [&] { return normal_density(surface, footprint, 96, {}); });
+    const std::vector<double> four = with_threads(4, [&] { return normal_density(surface, footprint, 96, {}); });
     EXPECT_EQ(one, four);
 }
 

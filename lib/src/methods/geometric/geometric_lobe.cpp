@@ -353,6 +353,7 @@ MethodEntry geometric_method() {
     entry.info.exact_pixels = true;
     entry.compute = geometric_lobe;
     entry.point_field = geometric_point_field;
+    entry.bsdf_from_images = true;  // the field evaluates the continuous P-NDF; the images integrate pixels
     return entry;
 }
 
