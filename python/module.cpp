@@ -3,6 +3,8 @@
 // lobe.cpp, bsdf.cpp, colour.cpp).
 #include "bindings.hpp"
 
+#include <optional>
+
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/core/version.hpp"
@@ -48,6 +50,20 @@ py::list method_table() {
 
 }  // namespace
 
+// `with glintscope.using_threads(n):` the library calls that this Python thread makes inside the
+// block run on n threads (0: the default). The library keeps no process-wide count, so other
+// Python threads keep theirs.
+class ThreadBlock {
+public:
+    explicit ThreadBlock(int threads) : threads_(threads) {}
+    void enter() { scope_.emplace(threads_); }
+    void exit() { scope_.reset(); }
+
+private:
+    int threads_;
+    std::optional<ThreadScope> scope_;
+};
+
 }  // namespace glintscope::python
 
 PYBIND11_MODULE(glintscope, module) {
@@ -59,10 +75,14 @@ PYBIND11_MODULE(glintscope, module) {
     module.attr("__version__") = version();
     py::register_exception<Error>(module, "Error", PyExc_ValueError).doc() =
         "A problem with the input, with the command line's one-line message.";
-    module.def("threads", &thread_count, "Threads the heavy loops use (GLINTSCOPE_THREADS or the cores).");
-    module.def("set_threads", &set_thread_count, py::arg("threads"),
-               "Sets the threads of the heavy loops for the whole process; 0 restores the default. Results do not "
-               "depend on it.");
+    module.def("threads", &thread_count,
+               "Threads the heavy loops of this thread's calls use (using_threads, else GLINTSCOPE_THREADS or the cores).");
+    py::class_<ThreadBlock>(module, "using_threads",
+                            "with using_threads(n): the library calls this thread makes in the block run on n threads "
+                            "(0: the default). Results do not depend on it.")
+        .def(py::init<int>(), py::arg("threads"))
+        .def("__enter__", [](ThreadBlock& block) { block.enter(); })
+        .def("__exit__", [](ThreadBlock& block, py::args) { block.exit(); });
     module.def("query_keys", &query_key_table,
                "The query keys (keyword arguments of lobe, ndf and bsdf): name, value_name, help, implicit.");
     module.def("methods", &method_table,

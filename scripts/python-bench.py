@@ -42,7 +42,6 @@ x, y = x[inside][:1_000_000], y[inside][:1_000_000]
 wo = np.stack([x, y, np.sqrt(1 - x ** 2 - y ** 2)], axis=-1)
 bsdf.eval(wi, wo[:10])  # the table of wi
 for threads in (1, 2):
-    glintscope.set_threads(threads)
-    seconds = median_seconds(lambda: bsdf.eval(wi, wo), 3)
+    with glintscope.using_threads(threads):
+        seconds = median_seconds(lambda: bsdf.eval(wi, wo), 3)
     print(f"bsdf.eval gabor 1 kernel/texel, 10^6 pairs, {threads} thread(s): {seconds * 1e6 / len(wo):.3f} us per pair")
-glintscope.set_threads(0)

@@ -91,23 +91,20 @@ def test_eval_releases_the_gil(surface):
     spans = []
 
     def evaluate():
-        start = time.perf_counter()
-        bsdf.eval(wi, wo)
-        spans.append((start, time.perf_counter()))
+        with glintscope.using_threads(1):  # each call on one library thread, as a renderer's threads would call it
+            start = time.perf_counter()
+            bsdf.eval(wi, wo)
+            spans.append((start, time.perf_counter()))
 
-    glintscope.set_threads(1)  # each call on one library thread, as a renderer's threads would call it
-    try:
-        bsdf.eval(wi, wo[:100])
-        threads = [threading.Thread(target=evaluate) for _ in range(2)]
-        steps = []
-        for thread in threads:
-            thread.start()
-        while any(thread.is_alive() for thread in threads):
-            steps.append(time.perf_counter())
-        for thread in threads:
-            thread.join()
-    finally:
-        glintscope.set_threads(0)
+    bsdf.eval(wi, wo[:100])
+    threads = [threading.Thread(target=evaluate) for _ in range(2)]
+    steps = []
+    for thread in threads:
+        thread.start()
+    while any(thread.is_alive() for thread in threads):
+        steps.append(time.perf_counter())
+    for thread in threads:
+        thread.join()
     begin, end = min(s for s, _ in spans), max(e for _, e in spans)
     inside = [begin] + [t for t in steps if begin <= t <= end] + [end]
     assert max(np.diff(inside)) / (end - begin) < 0.8

@@ -43,11 +43,10 @@ def test_results_do_not_depend_on_the_thread_count(surface):
     wo = np.array([[0.1, 0.2, 0.97], [-0.3, 0.1, 0.95]])
     answers = []
     for threads in (1, 2):
-        glintscope.set_threads(threads)
-        assert glintscope.threads() == threads
-        answers.append((glintscope.lobe(surface, res=16, sigma_c=5, supersample=2).values,
-                        bsdf.eval([0, 0, 1], glintscope_unit(wo))))
-    glintscope.set_threads(0)
+        with glintscope.using_threads(threads):
+            assert glintscope.threads() == threads
+            answers.append((glintscope.lobe(surface, res=16, sigma_c=5, supersample=2).values,
+                            bsdf.eval([0, 0, 1], glintscope_unit(wo))))
     assert np.array_equal(answers[0][0], answers[1][0]) and np.array_equal(answers[0][1], answers[1][1])
 
 

@@ -33,7 +33,7 @@ def test_the_stub_names_every_public_name_and_no_other():
             members = {m.name for m in node.body if isinstance(m, ast.FunctionDef)}
             members |= {m.target.id for m in node.body if isinstance(m, ast.AnnAssign)}
             actual = {m for m in dir(getattr(glintscope, node.name)) if not m.startswith("_")}
-            assert members - {"__init__", "__iter__", "__array__"} == actual, node.name
+            assert members - {"__init__", "__iter__", "__array__", "__enter__", "__exit__"} == actual, node.name
 
 
 def test_every_query_key_and_method_is_in_the_signatures_and_help():
