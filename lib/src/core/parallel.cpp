@@ -37,10 +37,16 @@ void set_thread_count(int threads) { requested_threads.store(std::max(0, threads
 
 void parallel_for(std::size_t count, std::size_t chunk,
                   const std::function<void(std::size_t, std::size_t)>& body) {
+    parallel_for(count, chunk, 0, body);
+}
+
+void parallel_for(std::size_t count, std::size_t chunk, int thread_limit,
+                  const std::function<void(std::size_t, std::size_t)>& body) {
     if (count == 0) return;
     chunk = std::max<std::size_t>(1, chunk);
     const std::size_t chunks = (count + chunk - 1) / chunk;
-    const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(thread_count()), chunks);
+    const int requested = thread_limit > 0 ? thread_limit : thread_count();
+    const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(requested), chunks);
     if (workers <= 1) {
         for (std::size_t begin = 0; begin < count; begin += chunk) body(begin, std::min(count, begin + chunk));
         return;

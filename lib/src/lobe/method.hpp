@@ -13,11 +13,13 @@ namespace glintscope {
 
 using MethodFunction = LobeImage (*)(const LobeQuery&);
 using PointFunction = PointAnswers (*)(const LobeQuery&);
+using PointFieldFunction = PointAnswersAt (*)(const LobeQuery&);
 
 struct MethodEntry {
     MethodInfo info;
     MethodFunction compute = nullptr;  // answers every quantity in info.quantities
     PointFunction point = nullptr;     // brdf for single directions; none: from the images (bsdf/)
+    PointFieldFunction point_field = nullptr;  // the same for any footprint (renderers); preferred by bsdf/
 };
 
 // Method options as values, with defaults when absent; each throws Error naming the option.

@@ -16,4 +16,8 @@ void set_thread_count(int threads);  // 0 restores the default
 void parallel_for(std::size_t count, std::size_t chunk,
                   const std::function<void(std::size_t begin, std::size_t end)>& body);
 
+// The same on `threads` threads (0: thread_count()), for callers that take a thread count per call.
+void parallel_for(std::size_t count, std::size_t chunk, int threads,
+                  const std::function<void(std::size_t begin, std::size_t end)>& body);
+
 }  // namespace glintscope

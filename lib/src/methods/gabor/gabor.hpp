@@ -85,6 +85,14 @@ GaborSettings gabor_settings(const LobeQuery& query);
 // records the kernel grid, count, truncations and evaluation scheme under "gabor.*".
 LobeImage gabor_lobe(const LobeQuery& query);
 
+// ---- Point queries for any footprint (renderers) ------------------------------------------
+
+// One GaborSurface for the query's heightfield and gabor settings, built once; each footprint's
+// eval is GaborSurface::f_r for the query's model, material and all its wavelengths in one call.
+// The image-only options (evaluation, phase_error) do not apply: eval is the closed-form sum,
+// which the images' products evaluation also computes.
+PointAnswersAt gabor_point_field(const LobeQuery& query);
+
 // The method-table entry: "gabor", Yan 2018 §4-5, brdf, the options of gabor_settings.
 MethodEntry gabor_method();
 

@@ -582,7 +582,9 @@ MethodEntry gabor_method() {
               {"evaluation", "grid: kernels summed in space, transformed like fft (default; fast); products: the "
                              "closed-form sum of the kernels' transforms, cut at kernel_truncation"}},
              true},
-            gabor_lobe};
+            gabor_lobe,
+            nullptr,
+            gabor_point_field};
 }
 
 }  // namespace glintscope
