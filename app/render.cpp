@@ -130,7 +130,7 @@ void add_render_command(CLI::App& app) {
     add_query_flags(*sub, command->given, Quantity::brdf,
                     {"quantity", "centre", "omega_i", "incident", "incident_xy", "res", "supersample", "memory",
                      "footprints"});
-    add_method_option_flags(*sub, command->given, Quantity::brdf);
+    add_method_option_flags(*sub, command->given, Quantity::brdf, bsdf_field_methods());
     sub->add_option("--exposure", command->exposure, "PNG exposure: auto or EV")->capture_default_str();
     sub->add_option("--ocio-config", command->ocio_config, "OpenColorIO config (default: $OCIO or built in)");
     sub->add_option("--colour-space", command->colour_space, "Scene-linear output colour space of a spectral EXR")
