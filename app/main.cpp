@@ -100,6 +100,7 @@ int main(int argc, char** argv) {
     glintscope::cli::add_fit_command(app);
     glintscope::cli::add_glints_command(app);
     glintscope::cli::add_compare_command(app);
+    glintscope::cli::add_render_command(app);
 
     if (const std::string problem = unknown_command(app, argc, argv); !problem.empty()) {
         std::fprintf(stderr, "glintscope: error: %s\n", problem.c_str());

@@ -8,6 +8,7 @@
 
 #include "numerics/disk_distribution.hpp"
 #include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
 #include "pipeline/method_table.hpp"
 
@@ -37,21 +38,37 @@ DiskDistribution image_distribution(const LobeImage& image) {
                                   std::vector<double>(image.values.begin(), image.values.end()));
 }
 
-// The method's own single-direction answers for the planned query, if it has any.
+const MethodEntry& method_entry(const std::string& method) {
+    for (const MethodEntry& entry : method_table())
+        if (entry.info.name == method) return entry;
+    throw Error("unknown method '" + method + "'");  // plan_lobe has named the known ones before
+}
+
+// The method's own single-direction answers for the planned query, if it has any: its point
+// query for any footprint (unless its footprints' Bsdf keeps the images), else for the query's
+// footprint.
 PointAnswers point_answers(const std::string& method, const LobeQuery& planned) {
-    for (const MethodEntry& entry : method_table()) {
-        if (entry.info.name != method) continue;
-        if (entry.point_field && !entry.bsdf_from_images) return entry.point_field(planned)(planned.footprint);
-        if (entry.point) return entry.point(planned);
-    }
+    const MethodEntry& entry = method_entry(method);
+    if (entry.point_field && !entry.bsdf_from_images) return entry.point_field(planned)(planned.footprint);
+    if (entry.point) return entry.point(planned);
     return {};
 }
 
 // An NDF method's D(h) for the planned query's footprint from its point field, if it has one.
 PointAnswers ndf_point_answers(const std::string& method, const LobeQuery& planned) {
-    for (const MethodEntry& entry : method_table())
-        if (entry.info.name == method && entry.point_field) return entry.point_field(planned)(planned.footprint);
+    const MethodEntry& entry = method_entry(method);
+    if (entry.point_field) return entry.point_field(planned)(planned.footprint);
     return {};
+}
+
+// Errors of a method's own code come prefixed with its name.
+template <typename Make>
+auto prefixed(const std::string& method, const Make& make) {
+    try {
+        return make();
+    } catch (const Error& e) {
+        throw Error(method + ": " + e.what());
+    }
 }
 
 // Supersampling of the albedo's sum over eval: the image's rule (geometry.hpp) at K = 4.
@@ -173,12 +190,50 @@ Bsdf make_bsdf(const std::string& method, const LobeQuery& query) {
     auto state = std::make_shared<Bsdf::State>();
     state->method = method;
     state->query = table_query(method, query, Quantity::brdf);
-    try {
-        state->point = point_answers(method, state->query);
-    } catch (const Error& e) {
-        throw Error(method + ": " + e.what());
-    }
+    state->point = prefixed(method, [&] { return point_answers(method, state->query); });
     return Bsdf(std::move(state));
+}
+
+struct BsdfField::State {
+    std::string method;
+    LobeQuery query;  // planned; its footprint replaced by each `at`
+    PointAnswersAt at;
+};
+
+BsdfField::BsdfField(std::shared_ptr<const State> state) : state_(std::move(state)) {}
+
+const std::string& BsdfField::method() const { return state_->method; }
+const std::vector<double>& BsdfField::wavelengths_um() const { return state_->query.wavelengths_um; }
+
+Bsdf BsdfField::at(const Footprint& footprint) const {
+    auto state = std::make_shared<Bsdf::State>();
+    state->method = state_->method;
+    state->query = state_->query;
+    validate(footprint);
+    state->query.footprint = footprint;
+    state->point = state_->at(footprint);
+    return Bsdf(std::move(state));
+}
+
+std::vector<std::string> bsdf_field_methods() {
+    std::vector<std::string> names;
+    for (const MethodEntry& entry : method_table())
+        if (entry.point_field) names.push_back(entry.info.name);
+    return names;
+}
+
+BsdfField make_bsdf_field(const std::string& method, const LobeQuery& query) {
+    auto state = std::make_shared<BsdfField::State>();
+    state->method = method;
+    state->query = table_query(method, query, Quantity::brdf);
+    const MethodEntry& entry = method_entry(method);
+    if (!entry.point_field) {
+        const std::vector<std::string> names = bsdf_field_methods();
+        throw Error(method + " has no point query for any footprint (a BSDF per shading point); methods that have one: " +
+                    (names.empty() ? std::string("none") : join(names)));
+    }
+    state->at = prefixed(method, [&] { return entry.point_field(state->query); });
+    return BsdfField(std::move(state));
 }
 
 struct Ndf::State {

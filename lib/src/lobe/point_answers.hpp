@@ -27,6 +27,8 @@ struct PointAnswers {
 
 // A method's point answers for any footprint of the query's heightfield: built once from the
 // query (its footprint, ω_i and supersampling unused), `at` is cheap and safe from many threads.
+// Renderers need a BSDF at every shading point, each with its own footprint, so the costly part
+// (a hierarchy over the whole heightfield) is built once and answers every footprint.
 using PointAnswersAt = std::function<PointAnswers(const Footprint& footprint)>;
 
 }  // namespace glintscope
