@@ -20,6 +20,7 @@ void add_batch_command(CLI::App& app);
 void add_fit_command(CLI::App& app);
 void add_glints_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
+void add_render_command(CLI::App& app);
 
 // A failure with its own exit status, printed like any error: compare exits 1 when the images
 // differ beyond --fail-above and 2 on bad input, as cmp and diff do, so that scripts tell the two

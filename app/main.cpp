@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <vector>
 #include <exception>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -97,7 +98,9 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "glintscope " + glintscope::version());
     // Subcommands pass options they do not know (--threads) up to the main command.
     app.fallthrough();
-    app.add_option_function<int>("--threads", [](int threads) { glintscope::set_thread_count(threads); },
+    // The subcommands run on this thread, inside this scope (the library's count is per thread).
+    std::optional<glintscope::ThreadScope> threads_scope;
+    app.add_option_function<int>("--threads", [&](int threads) { threads_scope.emplace(threads); },
                                  "Worker threads (default: all cores; results do not depend on it)")
         ->check(CLI::NonNegativeNumber)
         ->trigger_on_parse();
@@ -118,6 +121,7 @@ int main(int argc, char** argv) {
     glintscope::cli::add_fit_command(app);
     glintscope::cli::add_glints_command(app);
     glintscope::cli::add_compare_command(app);
+    glintscope::cli::add_render_command(app);
 
     if (const std::string problem = unknown_command(app, argc, argv); !problem.empty()) {
         std::fprintf(stderr, "glintscope: error: %s\n", problem.c_str());

@@ -27,11 +27,13 @@ void add_query_flags(CLI::App& command, QueryText& given, Quantity, const std::v
     }
 }
 
-void add_method_option_flags(CLI::App& command, QueryText& given, Quantity quantity) {
+void add_method_option_flags(CLI::App& command, QueryText& given, Quantity quantity,
+                             const std::vector<std::string>& only) {
     std::map<std::string, std::vector<std::string>> readers;
     std::map<std::string, std::string> helps;
     for (const MethodInfo& method : lobe_methods()) {
         if (!method.answers(quantity)) continue;
+        if (!only.empty() && std::find(only.begin(), only.end(), method.name) == only.end()) continue;
         for (const MethodOption& option : method.options) {
             readers[option.key].push_back(method.name);
             helps[option.key] = option.help;

@@ -19,7 +19,9 @@ std::string flag_name(const std::string& key);
 void add_query_flags(CLI::App& command, QueryText& given, Quantity quantity, const std::vector<std::string>& skip);
 
 // One flag per method option key of the methods answering `quantity` (help names the methods
-// that read it), and --option KEY=VALUE; each appends ("option.KEY", value) to `given`.
-void add_method_option_flags(CLI::App& command, QueryText& given, Quantity quantity);
+// that read it), and --option KEY=VALUE; each appends ("option.KEY", value) to `given`. A
+// nonempty `only` limits the flags to those methods' options.
+void add_method_option_flags(CLI::App& command, QueryText& given, Quantity quantity,
+                             const std::vector<std::string>& only = {});
 
 }  // namespace glintscope::cli

@@ -53,6 +53,16 @@ void BM_BsdfEval(benchmark::State& state, const char* method) {
 BENCHMARK_CAPTURE(BM_BsdfEval, dk, "dk")->Arg(128)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_BsdfEval, stam, "stam")->Arg(256)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_BsdfEval, fft_from_images, "fft")->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_BsdfEval, gabor, "gabor")->Arg(64)->Unit(benchmark::kMicrosecond);
+
+// The pdf alone: for gabor the sum over the footprint's kernel mixture (gabor_sampling.hpp).
+void BM_BsdfPdf(benchmark::State& state, const char* method) {
+    const glintscope::Bsdf bsdf = glintscope::make_bsdf(method, builtin_query(static_cast<int>(state.range(0))));
+    const std::vector<glintscope::Vec3> directions = random_directions(4096);
+    std::size_t k = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(bsdf.pdf(kIncident, directions[k++ & 4095]));
+}
+BENCHMARK_CAPTURE(BM_BsdfPdf, gabor, "gabor")->Arg(64)->Unit(benchmark::kMicrosecond);
 
 void BM_BsdfSample(benchmark::State& state, const char* method) {
     const glintscope::Bsdf bsdf = glintscope::make_bsdf(method, builtin_query(static_cast<int>(state.range(0))));
@@ -63,5 +73,6 @@ void BM_BsdfSample(benchmark::State& state, const char* method) {
 }
 BENCHMARK_CAPTURE(BM_BsdfSample, dk, "dk")->Arg(128)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_BsdfSample, stam_from_images, "stam")->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_BsdfSample, gabor, "gabor")->Arg(64)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -45,4 +45,18 @@ void BM_FftLobe512SixteenWavelengths(benchmark::State& state) {
 }
 BENCHMARK(BM_FftLobe512SixteenWavelengths)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
+// Yan 2018 eq. 6 at one direction over the footprint grid (fft_point), one wavelength, ω_i at
+// 20°, ω_o near its mirror direction; the grid of ω_i is made before the timing.
+void BM_FftPointEval(benchmark::State& state) {
+    glintscope::LobeQuery query = isotropic_query(64, {0.5});
+    const glintscope::Vec3 omega_i = glintscope::direction_from_spherical(20.0 * glintscope::pi / 180.0, 0.3);
+    const glintscope::PointAnswers point = glintscope::fft_point(query);
+    std::vector<glintscope::Vec3> directions;
+    for (int k = 0; k < 64; ++k) directions.push_back(glintscope::direction_from_spherical(0.35 + 0.002 * k, 0.3 + 0.05 * k));
+    point.eval(omega_i, directions[0]);
+    std::size_t k = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(point.eval(omega_i, directions[k++ & 63]));
+}
+BENCHMARK(BM_FftPointEval)->Unit(benchmark::kMicrosecond);
+
 }  // namespace

@@ -20,6 +20,7 @@ LAYERS = [
     ["pipeline"],
     ["bsdf"],
     ["output"],
+    ["render"],
     ["maps", "validate", "batch"],
     ["umbrella"],  # lib/include/glintscope/glintscope.hpp, the one include of the core API
 ]

@@ -10,6 +10,8 @@ packages=(
   libopenimageio-dev libopenexr-dev libfftw3-dev libcli11-dev libopencolorio-dev
   libzip-dev libpugixml-dev nlohmann-json3-dev libtomlplusplus-dev parallel python3-matplotlib libgtest-dev libgmock-dev libbenchmark-dev
   libnlopt-dev
+  # the Python module (python/, docs/python.md) and its tests, for Debian's /usr/bin/python3
+  pybind11-dev python3-pybind11 python3-numpy python3-pytest
   # Gwyddion: the tests' independent implementation; the reader it offers is opt-in
   # (GLINTSCOPE_CMAKE_ARGS=-DGLINTSCOPE_GWYDDION=ON, GPL-2+: docs/dependencies.md)
   libgwyddion20-dev gwyddion libgtk2.0-dev libgtkglext1-dev

@@ -8,7 +8,10 @@ cd "$(dirname "$0")/.."
 build=${GLINTSCOPE_ASAN_BUILD_DIR:-build-asan}
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLINTSCOPE_SANITIZE=ON \
+# The Python module and its pytest run are left out of this build (GLINTSCOPE_PYTHON=OFF, also
+# its default under GLINTSCOPE_SANITIZE): a module built with ASan needs the ASan runtime loaded
+# first, which a stock interpreter does not do. The normal run covers them.
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLINTSCOPE_SANITIZE=ON -DGLINTSCOPE_PYTHON=OFF \
   -DGLINTSCOPE_BUILD_BENCHMARKS=OFF "${launcher[@]}" > /dev/null
 cmake --build "$build" -j"$(nproc)"
 # Slow unwinding on malloc: the image libraries are built without frame pointers, and only full
@@ -23,4 +26,4 @@ export LSAN_OPTIONS=suppressions=$(pwd)/tests/sanitizer/lsan.supp:print_suppress
 # - Gwyddion's tests initialise GLib/GTK type systems whose one-time allocations are never freed
 #   (not ours; LeakSanitizer would report them).
 ctest --test-dir "$build" --output-on-failure -j"$(nproc)" --timeout 1200 \
-  -E "ResourceLimitsCommand.ThreadsTheSystemRefusesAreDoneWithout|ConsumerBuildsAgainstTheInstalledPackage|Gwyddion\."
+  -E "PythonModule|ResourceLimitsCommand.ThreadsTheSystemRefusesAreDoneWithout|ConsumerBuildsAgainstTheInstalledPackage|Gwyddion\."

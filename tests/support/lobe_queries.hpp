@@ -31,13 +31,9 @@ inline std::string compute_error(const std::string& method, const LobeQuery& que
     return "";
 }
 
-// compute_lobe with `threads` workers; the default (all cores) is restored afterwards.
+// compute_lobe with `threads` workers.
 inline LobeImage compute_with_threads(const std::string& method, const LobeQuery& query, int threads) {
-    struct Restore {
-        ~Restore() { set_thread_count(0); }
-    } restore;
-    set_thread_count(threads);
-    return compute_lobe(method, query);
+    return with_threads(threads, [&] { return compute_lobe(method, query); });
 }
 
 }  // namespace glintscope::testing

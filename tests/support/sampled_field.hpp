@@ -3,6 +3,7 @@
 // heightfield.hpp), for tests that know the surface in closed form.
 #include <functional>
 
+#include "glintscope/generate/generate.hpp"
 #include "glintscope/surface/heightfield.hpp"
 
 namespace glintscope::testing {
@@ -15,6 +16,13 @@ inline Heightfield sampled_field(int rows, int cols, double texel_um, const std:
             field.at(r, c) = static_cast<float>(height(s.x, s.y));
         }
     return field;
+}
+
+// The isotropic builtin's recipe on a smaller square grid (1 µm texel, T = 10 µm, rms slope 0.17).
+inline Heightfield isotropic_field(int size) {
+    Recipe recipe = default_recipe("isotropic");
+    recipe.grid.rows = recipe.grid.cols = size;
+    return generate(recipe);
 }
 
 }  // namespace glintscope::testing

@@ -16,6 +16,7 @@
 #include "glintscope/lobe/query_keys.hpp"
 #include "glintscope/optics/material.hpp"
 #include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
 #include "glintscope/output/lobe_output.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/core/version.hpp"
@@ -210,7 +211,12 @@ BatchResult run_batch(const Manifest& manifest, const BatchOptions& options, con
         }
     };
     std::vector<std::thread> workers;
-    for (int j = 1; j < std::min<int>(options.jobs, int(to_compute.size())); ++j) workers.emplace_back(work);
+    const int threads = thread_count();  // the caller's, for each job's parallel loops
+    for (int j = 1; j < std::min<int>(options.jobs, int(to_compute.size())); ++j)
+        workers.emplace_back([&] {
+            const ThreadScope inherited(threads);
+            work();
+        });
     work();
     for (std::thread& worker : workers) worker.join();
     if (failure) std::rethrow_exception(failure);

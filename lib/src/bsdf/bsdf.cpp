@@ -8,6 +8,7 @@
 
 #include "numerics/disk_distribution.hpp"
 #include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
 #include "pipeline/method_table.hpp"
 
@@ -37,11 +38,37 @@ DiskDistribution image_distribution(const LobeImage& image) {
                                   std::vector<double>(image.values.begin(), image.values.end()));
 }
 
-// The method's own single-direction answers for the planned query, if it has any.
-PointAnswers point_answers(const std::string& method, const LobeQuery& planned) {
+const MethodEntry& method_entry(const std::string& method) {
     for (const MethodEntry& entry : method_table())
-        if (entry.info.name == method && entry.point) return entry.point(planned);
+        if (entry.info.name == method) return entry;
+    throw Error("unknown method '" + method + "'");  // plan_lobe has named the known ones before
+}
+
+// The method's own single-direction answers for the planned query, if it has any: its point
+// query for any footprint (unless its footprints' Bsdf keeps the images), else for the query's
+// footprint.
+PointAnswers point_answers(const std::string& method, const LobeQuery& planned) {
+    const MethodEntry& entry = method_entry(method);
+    if (entry.point_field && !entry.bsdf_from_images) return entry.point_field(planned)(planned.footprint);
+    if (entry.point) return entry.point(planned);
     return {};
+}
+
+// An NDF method's D(h) for the planned query's footprint from its point field, if it has one.
+PointAnswers ndf_point_answers(const std::string& method, const LobeQuery& planned) {
+    const MethodEntry& entry = method_entry(method);
+    if (entry.point_field) return entry.point_field(planned)(planned.footprint);
+    return {};
+}
+
+// Errors of a method's own code come prefixed with its name.
+template <typename Make>
+auto prefixed(const std::string& method, const Make& make) {
+    try {
+        return make();
+    } catch (const Error& e) {
+        throw Error(method + ": " + e.what());
+    }
 }
 
 // Supersampling of the albedo's sum over eval: the image's rule (geometry.hpp) at K = 4.
@@ -163,16 +190,55 @@ Bsdf make_bsdf(const std::string& method, const LobeQuery& query) {
     auto state = std::make_shared<Bsdf::State>();
     state->method = method;
     state->query = table_query(method, query, Quantity::brdf);
-    try {
-        state->point = point_answers(method, state->query);
-    } catch (const Error& e) {
-        throw Error(method + ": " + e.what());
-    }
+    state->point = prefixed(method, [&] { return point_answers(method, state->query); });
     return Bsdf(std::move(state));
 }
 
+struct BsdfField::State {
+    std::string method;
+    LobeQuery query;  // planned; its footprint replaced by each `at`
+    PointAnswersAt at;
+};
+
+BsdfField::BsdfField(std::shared_ptr<const State> state) : state_(std::move(state)) {}
+
+const std::string& BsdfField::method() const { return state_->method; }
+const std::vector<double>& BsdfField::wavelengths_um() const { return state_->query.wavelengths_um; }
+
+Bsdf BsdfField::at(const Footprint& footprint) const {
+    auto state = std::make_shared<Bsdf::State>();
+    state->method = state_->method;
+    state->query = state_->query;
+    validate(footprint);
+    state->query.footprint = footprint;
+    state->point = state_->at(footprint);
+    return Bsdf(std::move(state));
+}
+
+std::vector<std::string> bsdf_field_methods() {
+    std::vector<std::string> names;
+    for (const MethodEntry& entry : method_table())
+        if (entry.point_field) names.push_back(entry.info.name);
+    return names;
+}
+
+BsdfField make_bsdf_field(const std::string& method, const LobeQuery& query) {
+    auto state = std::make_shared<BsdfField::State>();
+    state->method = method;
+    state->query = table_query(method, query, Quantity::brdf);
+    const MethodEntry& entry = method_entry(method);
+    if (!entry.point_field) {
+        const std::vector<std::string> names = bsdf_field_methods();
+        throw Error(method + " has no point query for any footprint (a BSDF per shading point); methods that have one: " +
+                    (names.empty() ? std::string("none") : join(names)));
+    }
+    state->at = prefixed(method, [&] { return entry.point_field(state->query); });
+    return BsdfField(std::move(state));
+}
+
 struct Ndf::State {
-    DiskDistribution table;
+    DiskDistribution table;  // sampling, and D where the method has no point query
+    PointAnswers point;      // D(h) as point.eval(·, h)
 };
 
 Ndf::Ndf(std::shared_ptr<const State> state) : state_(std::move(state)) {}
@@ -180,8 +246,11 @@ Ndf::Ndf(std::shared_ptr<const State> state) : state_(std::move(state)) {}
 std::vector<double> Ndf::eval(Vec3 h) const {
     h = unit_direction(h, "h");
     if (h.z <= 0.0) return std::vector<double>(state_->table.layers, 0.0);
+    if (state_->point.eval) return state_->point.eval({0.0, 0.0, 1.0}, h);
     return values_at(state_->table, h.x, h.y);
 }
+
+bool Ndf::evaluates_directly() const { return static_cast<bool>(state_->point.eval); }
 
 double Ndf::pdf(Vec3 h) const {
     h = unit_direction(h, "h");
@@ -200,7 +269,14 @@ std::vector<double> Ndf::normalisation() const { return state_->table.integral; 
 
 Ndf make_ndf(const std::string& method, const LobeQuery& query) {
     const LobeQuery planned = table_query(method, query, Quantity::ndf);
-    return Ndf(std::make_shared<const Ndf::State>(Ndf::State{image_distribution(compute_lobe(method, planned))}));
+    PointAnswers point;
+    try {
+        point = ndf_point_answers(method, planned);
+    } catch (const Error& e) {
+        throw Error(method + ": " + e.what());
+    }
+    return Ndf(std::make_shared<const Ndf::State>(
+        Ndf::State{image_distribution(compute_lobe(method, planned)), std::move(point)}));
 }
 
 }  // namespace glintscope

@@ -12,7 +12,8 @@
 namespace glintscope {
 namespace {
 
-std::atomic<int> requested_threads{0};
+// The calling thread's ThreadScope count; 0: none.
+thread_local int scoped_threads = 0;
 
 // Read once: parallel_for is called from small inner loops too.
 int default_thread_count() {
@@ -28,19 +29,19 @@ int default_thread_count() {
 
 }  // namespace
 
-int thread_count() {
-    const int n = requested_threads.load();
-    return n > 0 ? n : default_thread_count();
-}
+int thread_count() { return scoped_threads > 0 ? scoped_threads : default_thread_count(); }
 
-void set_thread_count(int threads) { requested_threads.store(std::max(0, threads)); }
+ThreadScope::ThreadScope(int threads) : previous_(scoped_threads) { scoped_threads = std::max(0, threads); }
+
+ThreadScope::~ThreadScope() { scoped_threads = previous_; }
 
 void parallel_for(std::size_t count, std::size_t chunk,
                   const std::function<void(std::size_t, std::size_t)>& body) {
     if (count == 0) return;
     chunk = std::max<std::size_t>(1, chunk);
     const std::size_t chunks = (count + chunk - 1) / chunk;
-    const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(thread_count()), chunks);
+    const int threads = thread_count();
+    const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(threads), chunks);
     if (workers <= 1) {
         for (std::size_t begin = 0; begin < count; begin += chunk) body(begin, std::min(count, begin + chunk));
         return;
@@ -62,17 +63,21 @@ void parallel_for(std::size_t count, std::size_t chunk,
             }
         }
     };
-    std::vector<std::thread> threads;
-    threads.reserve(workers - 1);
+    std::vector<std::thread> pool;
+    pool.reserve(workers - 1);
     // A thread the system refuses (process or memory limits) is not needed: the threads started
     // share the chunks, and the calling thread alone would finish them all. Chunks do not depend
     // on the thread count, so neither does the result.
     try {
-        for (std::size_t t = 1; t < workers; ++t) threads.emplace_back(work);
+        for (std::size_t t = 1; t < workers; ++t)
+            pool.emplace_back([&] {
+                const ThreadScope inherited(threads);  // for loops nested in the body
+                work();
+            });
     } catch (const std::exception&) {  // std::system_error, or std::bad_alloc for the thread's state
     }
     work();
-    for (auto& thread : threads) thread.join();
+    for (auto& thread : pool) thread.join();
     if (failure) std::rethrow_exception(failure);
 }
 

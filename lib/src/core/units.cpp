@@ -57,12 +57,13 @@ double parse_length_um(std::string_view text) {
     if (!std::isfinite(value)) throw Error("length '" + std::string(text) + "' is not finite");
     const std::string_view suffix = trim(std::string_view(end, static_cast<std::size_t>(last - end)));
     if (suffix.empty()) return value;
+    if (suffix == "cm") return value * 1e4;  // scene sizes (a 5cm patch); no unit of stored heights
     LengthUnit unit;
     try {
         unit = parse_length_unit(suffix);
     } catch (const Error&) {
         throw Error("'" + std::string(text) + "' has an unknown unit suffix '" + std::string(suffix) +
-                    "' (use um, nm, mm or m)");
+                    "' (use um, nm, mm, cm or m)");
     }
     if (unit == LengthUnit::texel)
         throw Error("'" + std::string(text) + "': a length here must be in um, nm, mm or m");

@@ -45,6 +45,11 @@ inline constexpr std::size_t kMaxSamples = std::size_t{1} << 31;
 // Checks a grid size read from a file before anything is allocated for it.
 void check_grid_size(long long cols, long long rows, const std::string& path);
 
+// A field read with rows dy_um apart (columns field.texel_um apart) made square
+// (surface/square_texels.hpp) with the tiling the options give, the change recorded as
+// provenance "square_texels"; a refusal names `path`.
+void make_square_recorded(Heightfield& field, double dy_um, const LoadOptions& options, const std::string& path);
+
 // Readers return heights in µm with the texel, provenance and units_assumed filled in; the
 // caller validates the result.
 Heightfield read_npy(const std::string& path, const LoadOptions& options);

@@ -111,9 +111,7 @@ Heightfield read_gwyddion(const std::string& path, const LoadOptions& options) {
     StoredUnits stored;
     if (xy_unit == "m") stored.texel_um = dx_um;
     if (z_unit == "m") stored.height_unit = LengthUnit::m;
-    if (!options.texel_um && xy_unit == "m" && std::fabs(dx_um - dy_um) > 1e-6 * dx_um)
-        throw read_error(path, "the sample spacing differs in x (" + format_length(dx_um) + ") and y (" +
-                                   format_length(dy_um) + "); glintscope needs square texels");
+    const bool rectangular = !options.texel_um && std::fabs(dx_um - dy_um) > 1e-6 * dx_um;
     const HeightConversion conversion = resolve_units(stored, options, path);
 
     Heightfield field = make_heightfield(rows, cols, conversion.texel_um);
@@ -126,6 +124,7 @@ Heightfield read_gwyddion(const std::string& path, const LoadOptions& options) {
     g_free(module);
     field.provenance["gwyddion:channel"] = channel_title(data.container, id);
     field.provenance["gwyddion:units"] = "lateral '" + xy_unit + "', heights '" + z_unit + "'";
+    if (rectangular) make_square_recorded(field, conversion.texel_um * (dy_um / dx_um), options, path);
     return field;
 }
 

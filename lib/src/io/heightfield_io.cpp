@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "formats.hpp"
+#include "glintscope/surface/square_texels.hpp"
 #include "glintscope/core/atomic_output.hpp"
 #include "glintscope/core/error.hpp"
 
@@ -61,6 +62,12 @@ Error read_error(const std::string& path, const std::string& problem) {
 
 Error write_error(const std::string& path, const std::string& problem) {
     return Error("cannot write '" + path + "': " + problem);
+}
+
+void make_square_recorded(Heightfield& field, double dy_um, const LoadOptions& options, const std::string& path) {
+    field.periodic = options.periodic;
+    const SquareTexelReport report = make_texels_square(field, dy_um, kMaxSamples, "cannot read '" + path + "'");
+    field.provenance["square_texels"] = describe(report, field);
 }
 
 void check_grid_size(long long cols, long long rows, const std::string& path) {

@@ -826,9 +826,9 @@ Heightfield read_x3p(const std::string& path, const LoadOptions& options) {
     StoredUnits stored;
     stored.texel_um = dx_um;
     stored.height_unit = LengthUnit::m;
-    if (!options.texel_um && std::fabs(*dx_um - *dy_um) > square_tolerance * *dx_um)
-        throw read_error(path, "the sample spacing differs in x (" + format_length(*dx_um) + ") and y (" +
-                                   format_length(*dy_um) + "); glintscope needs square texels");
+    // A --texel given by the user declares the texels square; otherwise spacings that differ
+    // beyond what the file can state are resampled to square texels after the points are read.
+    const bool rectangular = !options.texel_um && std::fabs(*dx_um - *dy_um) > square_tolerance * *dx_um;
     const HeightConversion conversion = resolve_units(stored, options, path);
 
     const int rows = static_cast<int>(layout.size_y);
@@ -849,6 +849,7 @@ Heightfield read_x3p(const std::string& path, const LoadOptions& options) {
         const auto i = static_cast<int>(k % cols);
         field.at(rows - 1 - j, i) = std::isnan(metres) ? std::numeric_limits<float>::quiet_NaN() : conversion.to_um(metres);
     });
+    if (rectangular) make_square_recorded(field, conversion.texel_um * (*dy_um / *dx_um), options, path);
     return field;
 }
 

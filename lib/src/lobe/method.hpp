@@ -13,11 +13,18 @@ namespace glintscope {
 
 using MethodFunction = LobeImage (*)(const LobeQuery&);
 using PointFunction = PointAnswers (*)(const LobeQuery&);
+using PointFieldFunction = PointAnswersAt (*)(const LobeQuery&);
 
 struct MethodEntry {
     MethodInfo info;
     MethodFunction compute = nullptr;  // answers every quantity in info.quantities
     PointFunction point = nullptr;     // brdf for single directions; none: from the images (bsdf/)
+    PointFieldFunction point_field = nullptr;  // the same for any footprint, built once per heightfield
+    // Whether make_bsdf answers one footprint from its images although the method has a point
+    // field: a field that only evaluates (no sampler) and answers the continuous lobe where the
+    // images integrate over pixels serves one-off footprints (renderers, BsdfField), while a
+    // footprint's own Bsdf keeps the images' eval, sampler and pdf.
+    bool bsdf_from_images = false;
 };
 
 // Method options as values, with defaults when absent; each throws Error naming the option.

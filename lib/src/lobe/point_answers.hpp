@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "glintscope/core/geometry.hpp"
+#include "glintscope/lobe/footprint.hpp"
 
 namespace glintscope {
 
@@ -17,11 +18,17 @@ struct DirectionSample {
 
 struct PointAnswers {
     // f_r(ω_i, ω_o) per query wavelength for unit directions above the horizon: what the image
-    // holds at a pixel centre at supersample 1.
+    // holds at a pixel centre at supersample 1. A method answering ndf: D(h) for eval(·, h).
     std::function<std::vector<double>(Vec3 omega_i, Vec3 omega_o)> eval;
     // A sampler and its exact pdf (both or neither).
     std::function<DirectionSample(Vec3 omega_i, double u1, double u2)> sample;
     std::function<double(Vec3 omega_i, Vec3 omega_o)> pdf;
 };
+
+// A method's point answers for any footprint of the query's heightfield: built once from the
+// query (its footprint, ω_i and supersampling unused), `at` is cheap and safe from many threads.
+// Renderers need a BSDF at every shading point, each with its own footprint, so the costly part
+// (a hierarchy over the whole heightfield) is built once and answers every footprint.
+using PointAnswersAt = std::function<PointAnswers(const Footprint& footprint)>;
 
 }  // namespace glintscope

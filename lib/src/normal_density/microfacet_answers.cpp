@@ -15,10 +15,7 @@ struct Microfacet {
     std::vector<double> eval(Vec3 omega_i, Vec3 omega_o) const {
         const Vec3 h = normalize(omega_i + omega_o);
         const double shadowing = table.shadowing ? table.shadowing(omega_i, omega_o, h) : 1.0;
-        const double common = table.density.at(h.x, h.y) * shadowing / (4.0 * omega_i.z * omega_o.z);  // Dong 2015 eq. 1
-        std::vector<double> f(wavelengths, common);
-        for (std::size_t k = 0; k < table.indices.size(); ++k) f[k] *= fresnel_conductor(table.indices[k], dot(omega_i, h));
-        return f;
+        return microfacet_value(table.density.at(h.x, h.y), shadowing, omega_i, omega_o, h, table.indices, wavelengths);
     }
 
     // dω_h/dω_o = 1/(4 ω_o·h) (Walter 2007 eq. 14), and dA_h = h_z dω_h.
@@ -42,6 +39,21 @@ struct Microfacet {
 };
 
 }  // namespace
+
+std::vector<double> microfacet_value(double density, double shadowing, Vec3 omega_i, Vec3 omega_o, Vec3 h,
+                                     const std::vector<ComplexIndex>& indices, std::size_t wavelengths) {
+    const double common = density * shadowing / (4.0 * omega_i.z * omega_o.z);  // Dong 2015 eq. 1
+    std::vector<double> f(wavelengths, common);
+    for (std::size_t k = 0; k < indices.size(); ++k) f[k] *= fresnel_conductor(indices[k], dot(omega_i, h));
+    return f;
+}
+
+std::vector<ComplexIndex> refractive_indices(const LobeQuery& query) {
+    std::vector<ComplexIndex> indices;
+    if (!query.material.name.empty())
+        for (double lambda : query.wavelengths_um) indices.push_back(complex_refractive_index(query.material.name, lambda));
+    return indices;
+}
 
 PointAnswers microfacet_answers(MicrofacetTable table, std::size_t wavelengths) {
     auto model = std::make_shared<Microfacet>();

@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "glintscope/lobe/query.hpp"
 #include "glintscope/optics/material.hpp"
 #include "lobe/point_answers.hpp"
 #include "numerics/disk_table.hpp"
@@ -22,5 +23,13 @@ struct MicrofacetTable {
 };
 
 PointAnswers microfacet_answers(MicrofacetTable table, std::size_t wavelengths);
+
+// F(ω_i·h) D G / (4 cosθ_i cosθ_o) per wavelength (Dong 2015 eq. 1) for the density D and
+// shadowing G at h: one Fresnel factor per index, F = 1 for all `wavelengths` without indices.
+std::vector<double> microfacet_value(double density, double shadowing, Vec3 omega_i, Vec3 omega_o, Vec3 h,
+                                     const std::vector<ComplexIndex>& indices, std::size_t wavelengths);
+
+// The query material's complex index at each query wavelength; empty without a material.
+std::vector<ComplexIndex> refractive_indices(const LobeQuery& query);
 
 }  // namespace glintscope

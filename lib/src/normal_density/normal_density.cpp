@@ -9,93 +9,10 @@
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "normal_density/triangle_model.hpp"
 
 namespace glintscope {
 namespace {
-
-// Cell lattice over the integration domain: corners (x0 + i·step_x, y0 + j·step_y), 0 ≤ i ≤ nx,
-// 0 ≤ j ≤ ny, on the periodically tiled surface.
-struct Lattice {
-    double x0 = 0.0;
-    double y0 = 0.0;
-    double step_x = 0.0;
-    double step_y = 0.0;
-    long long nx = 0;
-    long long ny = 0;
-};
-
-// The footprint weight of a surface element at s (per µm²), zero outside the truncated support.
-struct Weight {
-    FootprintShape shape = FootprintShape::whole;
-    Point2 centre;
-    double inverse_two_variance = 0.0;  // Gaussian: 1/(2σ_w²)
-    double cutoff_squared = 0.0;        // Gaussian: (kTruncationSigmas·σ_w)²
-    double scale = 0.0;                 // normalisation: 1/(2πσ_w²), 1/side², 1/(W·H)
-
-    [[gnu::always_inline]] double operator()(double x, double y) const {
-        if (shape != FootprintShape::gaussian) return scale;
-        const double r2 = (x - centre.x) * (x - centre.x) + (y - centre.y) * (y - centre.y);
-        return r2 > cutoff_squared ? 0.0 : scale * std::exp(-r2 * inverse_two_variance);
-    }
-};
-
-// First lattice index at or below `from` and the count of cells up to `to`, for a lattice
-// through the sample positions (k + ½)·dx with step h.
-void aligned_axis(double from, double to, double texel, double step, double& origin, long long& count) {
-    const double first = std::floor((from - 0.5 * texel) / step);
-    const double last = std::ceil((to - 0.5 * texel) / step);
-    origin = 0.5 * texel + first * step;
-    count = static_cast<long long>(last - first);
-}
-
-// The base lattice: one cell per texel, aligned with the samples (a box: with its edges, so
-// the box's weight is integrated exactly); cells are subdivided further where needed.
-Lattice lattice_for(const BicubicInterpolant& surface, const Footprint& footprint) {
-    const double texel = surface.texel_um();
-    Lattice lattice;
-    lattice.step_x = lattice.step_y = texel;
-    if (footprint.shape == FootprintShape::whole) {
-        lattice.x0 = lattice.y0 = 0.5 * texel;
-        lattice.nx = surface.cols();
-        lattice.ny = surface.rows();
-    } else if (footprint.shape == FootprintShape::box) {
-        const double width = box_width_um(footprint), height = box_height_um(footprint);
-        lattice.nx = static_cast<long long>(std::ceil(width / texel));
-        lattice.ny = static_cast<long long>(std::ceil(height / texel));
-        lattice.step_x = width / static_cast<double>(lattice.nx);
-        lattice.step_y = height / static_cast<double>(lattice.ny);
-        lattice.x0 = footprint.centre_um.x - 0.5 * width;
-        lattice.y0 = footprint.centre_um.y - 0.5 * height;
-    } else {
-        const double reach = kTruncationSigmas * footprint_weight_sigma_um(footprint);
-        aligned_axis(footprint.centre_um.x - reach, footprint.centre_um.x + reach, texel, texel, lattice.x0, lattice.nx);
-        aligned_axis(footprint.centre_um.y - reach, footprint.centre_um.y + reach, texel, texel, lattice.y0, lattice.ny);
-    }
-    return lattice;
-}
-
-Weight weight_for(const BicubicInterpolant& surface, const Footprint& footprint) {
-    Weight weight;
-    weight.shape = footprint.shape;
-    weight.centre = footprint.centre_um;
-    if (footprint.shape == FootprintShape::whole) {
-        weight.scale = 1.0 / (surface.cols() * surface.texel_um() * surface.rows() * surface.texel_um());
-    } else if (footprint.shape == FootprintShape::box) {
-        weight.scale = 1.0 / (box_width_um(footprint) * box_height_um(footprint));
-    } else {
-        const double sigma = footprint_weight_sigma_um(footprint);
-        weight.inverse_two_variance = 0.5 / (sigma * sigma);
-        weight.cutoff_squared = kTruncationSigmas * kTruncationSigmas * sigma * sigma;
-        weight.scale = 1.0 / (2.0 * pi * sigma * sigma);
-    }
-    return weight;
-}
-
-// Image-plane points in pixel units: u along columns, v along rows (down).
-struct Pixel {
-    double u = 0.0;
-    double v = 0.0;
-};
 
 // Pixel coordinates of normals lie in [0, N]: for them truncation is the floor, and anything
 // below 0 clamps to 0 either way (std::floor is a library call in the portable build).
@@ -291,13 +208,6 @@ void deposit_segment(const CoverageGrids& grids, Pixel a, Pixel b, Pixel c, doub
     return false;
 }
 
-// Where the normal of gradient (H_x, H_y) lands in pixel units: m = (−H_x, −H_y, 1)/|…| at disk
-// point (m_x, m_y), column u = (m_x + 1)·N/2, row v = (1 − m_y)·N/2 (conventions.md).
-[[gnu::always_inline]] inline Pixel normal_pixel(const SurfacePoint& point, double half_resolution) {
-    const double inverse_norm = 1.0 / std::sqrt(1.0 + point.dh_dx * point.dh_dx + point.dh_dy * point.dh_dy);
-    return {(1.0 - point.dh_dx * inverse_norm) * half_resolution, (1.0 + point.dh_dy * inverse_norm) * half_resolution};
-}
-
 constexpr long long kRowsPerEvaluation = 32;
 constexpr long long kColumnsPerGrid = 8192;  // bounds one deposit_grid's scratch on wide fields
 
@@ -348,19 +258,6 @@ constexpr long long kColumnsPerGrid = 8192;  // bounds one deposit_grid's scratc
     for (int b = 0; b <= rows_of_cells; ++b)
         for (int a = 0; a <= cols; ++a)
             if (q[b * stride + a] != 0.0) grids.add_quadrant(p[b * stride + a], q[b * stride + a]);
-}
-
-// Subdivisions of a base cell: at least settings.refinement, and the least n whose sub-cells'
-// stray, the cell's own (its centre's image against the bilinear blend of the corner images)
-// over n², is within the tolerance: the stray falls as the square of the subdivision.
-int subdivisions(const NormalDensitySettings& settings, Pixel p00, Pixel p10, Pixel p01, Pixel p11, Pixel centre) {
-    const int n = settings.refinement;
-    if (settings.tolerance_pixels <= 0.0) return n;
-    const double stray = std::hypot(centre.u - 0.25 * (p00.u + p10.u + p01.u + p11.u),
-                                    centre.v - 0.25 * (p00.v + p10.v + p01.v + p11.v));
-    if (stray <= settings.tolerance_pixels * n * n) return n;
-    const double needed = std::ceil(std::sqrt(stray / settings.tolerance_pixels));
-    return static_cast<int>(std::min<double>(needed, kMaxRefinement));
 }
 
 // Accumulates the base-cell rows [j_begin, j_end) into `rows`.
@@ -504,8 +401,7 @@ double footprint_weight_sigma_um(const Footprint& footprint) {
     return footprint.sigma_um / std::numbers::sqrt2;
 }
 
-std::vector<double> normal_density(const BicubicInterpolant& surface, const Footprint& footprint, int resolution,
-                                   const NormalDensitySettings& settings) {
+void check_normal_density_settings(int resolution, const NormalDensitySettings& settings) {
     if (resolution < 1 || resolution > 8192)
         throw Error("NDF resolution must be between 1 and 8192, got " + std::to_string(resolution));
     if (settings.refinement < 1 || settings.refinement > kMaxRefinement)
@@ -515,8 +411,13 @@ std::vector<double> normal_density(const BicubicInterpolant& surface, const Foot
                     shortest_text(settings.intrinsic_roughness));
     if (!(settings.tolerance_pixels >= 0.0))
         throw Error("NDF tolerance must be a non-negative number of pixels, got " + shortest_text(settings.tolerance_pixels));
-    const Lattice lattice = lattice_for(surface, footprint);
-    const Weight weight = weight_for(surface, footprint);
+}
+
+std::vector<double> normal_density(const BicubicInterpolant& surface, const Footprint& footprint, int resolution,
+                                   const NormalDensitySettings& settings) {
+    check_normal_density_settings(resolution, settings);
+    const Lattice lattice = lattice_for(texel_grid(surface), footprint);
+    const Weight weight = weight_for(texel_grid(surface), footprint);
     const long long stripes = stripe_count(resolution, lattice);
     std::vector<std::vector<double>> partial(static_cast<std::size_t>(stripes));
     parallel_for(static_cast<std::size_t>(stripes), 1, [&](std::size_t begin, std::size_t end) {

@@ -45,6 +45,9 @@ constexpr int kMaxRefinement = 64;
 // σ_c/√2; a box by 1/side² inside it; `whole` by 1/(W·H) over one period of the field.
 double footprint_weight_sigma_um(const Footprint& footprint);
 
+// Throws Error naming a bad resolution, refinement, tolerance or roughness.
+void check_normal_density_settings(int resolution, const NormalDensitySettings& settings);
+
 // D on the N×N projected-disk image, row-major with row 0 at the top (largest m_y), normalised
 // so that Σ D·(2/N)² = 1. Throws Error naming a bad resolution, refinement or roughness.
 std::vector<double> normal_density(const BicubicInterpolant& surface, const Footprint& footprint, int resolution,

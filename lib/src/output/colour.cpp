@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <span>
 #include <sstream>
 
 #include <OpenColorIO/OpenColorIO.h>
@@ -109,15 +111,14 @@ void check_lobe(const LobeImage& lobe) {
         throw Error("lobe image is empty or its values do not match its resolution and wavelengths");
 }
 
-// Nearest-rank percentile of the finite luminances inside the disk.
-double luminance_percentile(const std::vector<float>& xyz, int resolution, double percentile,
-                            double& maximum) {
+// Nearest-rank percentile of the finite luminances of the pixels `counted` accepts.
+double luminance_percentile(const std::vector<float>& xyz, const std::function<bool(std::size_t)>& counted,
+                            double percentile, double& maximum) {
     std::vector<float> luminance;
-    for (int row = 0; row < resolution; ++row)
-        for (int col = 0; col < resolution; ++col) {
-            const float y = xyz[(std::size_t(row) * resolution + col) * 3 + 1];
-            if (inside_disk(row, col, resolution) && std::isfinite(y)) luminance.push_back(y);
-        }
+    for (std::size_t pixel = 0; pixel < xyz.size() / 3; ++pixel) {
+        const float y = xyz[pixel * 3 + 1];
+        if (counted(pixel) && std::isfinite(y)) luminance.push_back(y);
+    }
     maximum = 0.0;
     if (luminance.empty()) return 0.0;
     maximum = *std::max_element(luminance.begin(), luminance.end());
@@ -127,8 +128,9 @@ double luminance_percentile(const std::vector<float>& xyz, int resolution, doubl
     return luminance[index];
 }
 
-// The exposure for a lobe whose XYZ image is `xyz` (see display_exposure).
-DisplayExposure exposure_for(const std::vector<float>& xyz, int resolution, const ColourSettings& settings) {
+// The exposure for an XYZ image `xyz` over the pixels `counted` accepts, named `where` (see display_exposure).
+DisplayExposure exposure_for(const std::vector<float>& xyz, const std::function<bool(std::size_t)>& counted,
+                             const std::string& where, const ColourSettings& settings) {
     DisplayExposure exposure;
     exposure.log_scale = settings.log_scale;
     exposure.log_decades = settings.log_decades;
@@ -145,9 +147,9 @@ DisplayExposure exposure_for(const std::vector<float>& xyz, int resolution, cons
         // A log scale exists to show the whole range, so there the maximum is the top.
         const double rank = settings.log_scale ? 100.0 : settings.auto_percentile;
         double maximum = 0.0;
-        const double level = luminance_percentile(xyz, resolution, rank, maximum);
-        const std::string percentile = settings.log_scale ? std::string("maximum luminance in the disk")
-                                                          : shortest_text(rank) + "th percentile of luminance in the disk";
+        const double level = luminance_percentile(xyz, counted, rank, maximum);
+        const std::string percentile = settings.log_scale ? "maximum luminance " + where
+                                                          : shortest_text(rank) + "th percentile of luminance " + where;
         if (level > 0.0) {
             exposure.ev = -std::log2(level);
             exposure.rule = "auto: " + percentile + " maps to 1";
@@ -209,37 +211,64 @@ void convert_from_xyz(std::vector<float>& pixels, const ColourSettings& settings
     }
 }
 
-std::vector<float> lobe_to_xyz(const LobeImage& lobe, Illuminant illuminant) {
-    check_lobe(lobe);
-    const int n = lobe.resolution;
-    const std::size_t layers = lobe.wavelengths_um.size();
-    // A single wavelength is achromatic: f_r times the D65 white. A spectrum goes through the
-    // weights, adapted (linearly, so once per bin) from the illuminant's white to D65.
+namespace {
+
+// Per layer, the XYZ of a unit value: a single wavelength is achromatic, the D65 white; a spectrum
+// goes through the weights, adapted (linearly, so once per bin) from the illuminant's white to D65.
+std::vector<XYZ> layer_weights(const std::vector<double>& wavelengths_um, Illuminant illuminant) {
     std::vector<XYZ> weights;
-    if (layers == 1) {
+    if (wavelengths_um.size() == 1) {
         weights.push_back(d65_white_xyz());
     } else {
-        const SpectralWeights spectral = spectral_weights(lobe.wavelengths_um, illuminant);
+        const SpectralWeights spectral = spectral_weights(wavelengths_um, illuminant);
         for (const XYZ& w : spectral.weights) weights.push_back(adapt_to_d65(w, spectral.white));
     }
-    std::vector<float> xyz(std::size_t(n) * n * 3, 0.0f);
-    parallel_for(std::size_t(n), 16, [&](std::size_t begin, std::size_t end) {
-        for (int row = int(begin); row < int(end); ++row)
-            for (int col = 0; col < n; ++col) {
-                if (!inside_disk(row, col, n)) continue;
-                XYZ total;
-                for (std::size_t layer = 0; layer < layers; ++layer) {
-                    const double value = lobe.at(layer, row, col);
-                    total = {total.X + value * weights[layer].X, total.Y + value * weights[layer].Y,
-                             total.Z + value * weights[layer].Z};
-                }
-                float* pixel = &xyz[(std::size_t(row) * n + col) * 3];
-                pixel[0] = float(total.X);
-                pixel[1] = float(total.Y);
-                pixel[2] = float(total.Z);
+    return weights;
+}
+
+// Packed XYZ of layers [layer][pixel]; pixels `counted` rejects stay 0.
+std::vector<float> xyz_of_layers(std::span<const float> values, std::size_t pixels,
+                                 const std::vector<double>& wavelengths_um, Illuminant illuminant,
+                                 const std::function<bool(std::size_t)>& counted) {
+    const std::vector<XYZ> weights = layer_weights(wavelengths_um, illuminant);
+    std::vector<float> xyz(pixels * 3, 0.0f);
+    parallel_for(pixels, 4096, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            if (!counted(i)) continue;
+            XYZ total;
+            for (std::size_t layer = 0; layer < weights.size(); ++layer) {
+                const double value = values[layer * pixels + i];
+                total = {total.X + value * weights[layer].X, total.Y + value * weights[layer].Y,
+                         total.Z + value * weights[layer].Z};
             }
+            xyz[i * 3] = float(total.X);
+            xyz[i * 3 + 1] = float(total.Y);
+            xyz[i * 3 + 2] = float(total.Z);
+        }
     });
     return xyz;
+}
+
+// Whether pixel i (row-major) of an N×N lobe lies inside the disk.
+std::function<bool(std::size_t)> disk_pixels(int resolution) {
+    return [resolution](std::size_t i) { return inside_disk(int(i / resolution), int(i % resolution), resolution); };
+}
+
+bool every_pixel(std::size_t) { return true; }
+
+}  // namespace
+
+std::vector<float> lobe_to_xyz(const LobeImage& lobe, Illuminant illuminant) {
+    check_lobe(lobe);
+    const std::size_t pixels = std::size_t(lobe.resolution) * lobe.resolution;
+    return xyz_of_layers(lobe.values, pixels, lobe.wavelengths_um, illuminant, disk_pixels(lobe.resolution));
+}
+
+std::vector<float> layers_to_xyz(std::span<const float> values, std::size_t pixels,
+                                 const std::vector<double>& wavelengths_um, Illuminant illuminant) {
+    if (pixels == 0 || wavelengths_um.empty() || values.size() != pixels * wavelengths_um.size())
+        throw Error("image is empty or its values do not match its size and wavelengths");
+    return xyz_of_layers(values, pixels, wavelengths_um, illuminant, every_pixel);
 }
 
 std::vector<float> scene_linear_chromaticities(const ColourSettings& settings, const std::string& space) {
@@ -264,15 +293,15 @@ std::vector<float> lobe_to_rgb(const LobeImage& lobe, const ColourSettings& sett
 }
 
 DisplayExposure display_exposure(const LobeImage& lobe, const ColourSettings& settings) {
-    return exposure_for(lobe_to_xyz(lobe, settings.illuminant), lobe.resolution, settings);
+    return exposure_for(lobe_to_xyz(lobe, settings.illuminant), disk_pixels(lobe.resolution), "in the disk", settings);
 }
 
-DisplayImage lobe_to_display(const LobeImage& lobe, const ColourSettings& settings) {
-    std::vector<float> pixels = lobe_to_xyz(lobe, settings.illuminant);
-    DisplayImage display;
-    display.resolution = lobe.resolution;
-    display.exposure = exposure_for(pixels, lobe.resolution, settings);
-    const DisplayExposure& exposure = display.exposure;
+DisplayExposure xyz_exposure(const std::vector<float>& xyz, const ColourSettings& settings) {
+    return exposure_for(xyz, every_pixel, "of the image", settings);
+}
+
+std::vector<std::uint8_t> xyz_to_display(std::vector<float> pixels, const DisplayExposure& exposure,
+                                         const ColourSettings& settings) {
     for (std::size_t i = 0; i < pixels.size(); i += 3) {
         const double y = pixels[i + 1];
         double scale = 0.0;
@@ -283,11 +312,20 @@ DisplayImage lobe_to_display(const LobeImage& lobe, const ColourSettings& settin
         for (int c = 0; c < 3; ++c) pixels[i + c] = float(pixels[i + c] * scale);
     }
     convert_from_xyz(pixels, settings, settings.display_space);
-    display.pixels.resize(pixels.size());
+    std::vector<std::uint8_t> encoded(pixels.size());
     for (std::size_t i = 0; i < pixels.size(); ++i) {
         const float value = std::isfinite(pixels[i]) ? std::clamp(pixels[i], 0.0f, 1.0f) : 0.0f;
-        display.pixels[i] = std::uint8_t(std::lround(value * 255.0f));
+        encoded[i] = std::uint8_t(std::lround(value * 255.0f));
     }
+    return encoded;
+}
+
+DisplayImage lobe_to_display(const LobeImage& lobe, const ColourSettings& settings) {
+    std::vector<float> pixels = lobe_to_xyz(lobe, settings.illuminant);
+    DisplayImage display;
+    display.resolution = lobe.resolution;
+    display.exposure = exposure_for(pixels, disk_pixels(lobe.resolution), "in the disk", settings);
+    display.pixels = xyz_to_display(std::move(pixels), display.exposure, settings);
     return display;
 }
 

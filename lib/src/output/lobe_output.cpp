@@ -17,19 +17,12 @@
 #include "glintscope/core/error.hpp"
 #include "glintscope/output/figure.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "output/image_files.hpp"
 
 namespace glintscope {
 namespace {
 
-constexpr std::string_view attribute_prefix = "glintscope:";
 constexpr std::string_view output_prefix = "output.";  // keys the writer adds; not lobe metadata
-
-std::string one_line(std::string text) {
-    for (char& ch : text)
-        if (ch == '\n' || ch == '\r') ch = ' ';
-    while (!text.empty() && text.back() == ' ') text.pop_back();
-    return text.empty() ? "unknown error" : text;
-}
 
 std::vector<double> parse_list(const std::string& text, const std::string& path) {
     try {
@@ -90,19 +83,6 @@ Provenance output_facts(const LobeImage& lobe, const LobeOutputOptions& options,
         facts["output.colour_config"] = colour_config_name(options.colour);
     }
     return facts;
-}
-
-void write_image(const std::string& path, const OIIO::ImageSpec& spec, const void* pixels, OIIO::TypeDesc type) {
-    write_atomically(path, [&](const std::string& temporary) {
-        auto output = OIIO::ImageOutput::create(temporary);
-        if (!output) throw Error("cannot write '" + path + "': " + one_line(OIIO::geterror()));
-        if (!output->open(temporary, spec) || !output->write_image(type, pixels) || !output->close())
-            throw Error("cannot write '" + path + "': " + one_line(output->geterror()));
-    });
-}
-
-void add_attributes(OIIO::ImageSpec& spec, const Provenance& entries) {
-    for (const auto& [key, value] : entries) spec.attribute(std::string(attribute_prefix) + key, value);
 }
 
 // Σ Y (2/N)² of the colour image: the luminous albedo of a spectral lobe.
@@ -235,7 +215,7 @@ void write_lobe_exr(const LobeImage& lobe, const std::string& path, const LobeOu
         spec.attribute("spectralLayoutVersion", "1.0");
         spec.attribute("emissiveUnits", "W.m^-2.sr^-1");
     }
-    write_image(path, spec, interleaved.data(), OIIO::TypeDesc::FLOAT);
+    write_image_file(path, spec, interleaved.data(), OIIO::TypeDesc::FLOAT);
 }
 
 DisplayExposure write_lobe_png(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options) {
@@ -257,7 +237,7 @@ DisplayExposure write_lobe_png(const LobeImage& lobe, const std::string& path, c
                                                                  " decades below the white level"
                                                            : "linear";
     add_attributes(spec, facts);
-    write_image(path, spec, display.pixels.data(), OIIO::TypeDesc::UINT8);
+    write_image_file(path, spec, display.pixels.data(), OIIO::TypeDesc::UINT8);
     return display.exposure;
 }
 
@@ -326,7 +306,7 @@ void write_lobe(const LobeImage& lobe, const std::string& path, const LobeOutput
 
 LobeExrLayers load_lobe_exr_layers(const std::string& path) {
     auto input = OIIO::ImageInput::open(path);
-    if (!input) throw Error("cannot read lobe '" + path + "': " + one_line(OIIO::geterror()));
+    if (!input) throw Error("cannot read lobe '" + path + "': " + one_line_message(OIIO::geterror()));
     const OIIO::ImageSpec& spec = input->spec();
     if (spec.width != spec.height || spec.width < 1 || spec.depth > 1)
         throw Error("cannot read lobe '" + path + "': the image is not square");
@@ -368,7 +348,7 @@ LobeExrLayers load_lobe_exr_layers(const std::string& path) {
     const std::size_t pixels = std::size_t(spec.width) * spec.height;
     std::vector<float> all(pixels * spec.nchannels);
     if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
-        throw Error("cannot read lobe '" + path + "': " + one_line(input->geterror()));
+        throw Error("cannot read lobe '" + path + "': " + one_line_message(input->geterror()));
     lobe.values.resize(pixels * channels.size());
     for (std::size_t layer = 0; layer < channels.size(); ++layer)
         for (std::size_t i = 0; i < pixels; ++i) lobe.values[layer * pixels + i] = all[i * spec.nchannels + channels[layer]];

@@ -25,6 +25,7 @@
 #include "glintscope/prepare/prepare.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/core/units.hpp"
+#include "surface/line_extension.hpp"
 
 namespace glintscope {
 namespace {
@@ -33,22 +34,9 @@ constexpr std::size_t kRowsPerChunk = 16;
 // Catmull–Rom reads the samples from one before to two after a position: the added margin.
 constexpr int kMargin = 2;
 
-// Sample i of a line of n samples (at `line`, `stride` apart) continued beyond [0, n).
+// Sample i of a line continued beyond its ends as `tiling` says (surface/line_extension.hpp).
 double extended(const float* line, std::size_t stride, long long i, int n, Tiling tiling) {
-    if (tiling == Tiling::periodic) return line[static_cast<std::size_t>(((i % n) + n) % n) * stride];
-    if (n == 1) return line[0];
-    const auto at = [&](long long k) { return static_cast<double>(line[static_cast<std::size_t>(k) * stride]); };
-    // Each reflection about an end sample maps i closer to the line; point reflection negates
-    // the deviation from that sample, so the signs alternate.
-    double offset = 0.0;
-    double sign = 1.0;
-    while (i < 0 || i >= n) {
-        const long long end = i < 0 ? 0 : n - 1;
-        offset += sign * 2.0 * at(end);
-        sign = -sign;
-        i = 2 * end - i;
-    }
-    return offset + sign * at(i);
+    return extended_sample(line, stride, i, n, tiling == Tiling::periodic);
 }
 
 // Weights of a box `width` samples wide centred on sample 0 over the unit cells of samples

@@ -68,38 +68,60 @@ int neighbour(int i, int offset, int n, bool periodic) {
     return periodic ? (j + n) % n : -1;
 }
 
+// The height moments of one row about `mean`.
+void add_heights(const float* row, int cols, double mean, Deviations& sums) {
+    for (int c = 0; c < cols; ++c) {
+        const double h = row[c];
+        if (std::isnan(h)) continue;
+        const double z = h - mean;
+        const double z2 = z * z;
+        sums.squares += z2;
+        sums.cubes += z2 * z;
+        sums.fourths += z2 * z2;
+        sums.absolutes += std::fabs(z);
+        sums.lowest = std::min(sums.lowest, z);
+        sums.highest = std::max(sums.highest, z);
+    }
+}
+
+// The central-difference gradient at column c of a row whose neighbours along y are `above` and
+// `below` (row r − 1 is at larger y), from columns `left` and `right`; NaN-free values only.
+void add_gradient(const float* row, const float* above, const float* below, int c, int left, int right,
+                  double inverse_2dx, double inverse_2dy, Deviations& sums) {
+    const double zx = (double(row[right]) - row[left]) * inverse_2dx;
+    const double zy = (double(above[c]) - below[c]) * inverse_2dy;
+    if (std::isnan(zx) || std::isnan(zy) || std::isnan(row[c])) return;
+    const double slope_squared = zx * zx + zy * zy;
+    ++sums.gradients;
+    sums.gradient_squares += slope_squared;
+    // √(1+g²) − 1 written as g² / (√(1+g²) + 1): no cancellation for small slopes.
+    sums.area_excess += slope_squared / (std::sqrt(1.0 + slope_squared) + 1.0);
+}
+
 Deviations deviations(const Heightfield& field, double mean, double dx, double dy) {
     const int rows = field.rows;
     const int cols = field.cols;
+    const double inverse_2dx = 1.0 / (2.0 * dx), inverse_2dy = 1.0 / (2.0 * dy);
     const std::size_t chunks = (rows + kRowsPerChunk - 1) / kRowsPerChunk;
     std::vector<Deviations> partial(chunks);
+    const auto row_at = [&](int r) { return field.heights_um.data() + static_cast<std::size_t>(r) * cols; };
     parallel_for(rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
         Deviations sums;
         for (int r = static_cast<int>(begin); r < static_cast<int>(end); ++r) {
+            const float* row = row_at(r);
+            add_heights(row, cols, mean, sums);
             const int up = neighbour(r, -1, rows, field.periodic);
             const int down = neighbour(r, 1, rows, field.periodic);
-            for (int c = 0; c < cols; ++c) {
-                const double h = field.at(r, c);
-                if (std::isnan(h)) continue;
-                const double z = h - mean;
-                sums.squares += z * z;
-                sums.cubes += z * z * z;
-                sums.fourths += z * z * z * z;
-                sums.absolutes += std::fabs(z);
-                sums.lowest = std::min(sums.lowest, z);
-                sums.highest = std::max(sums.highest, z);
-                const int left = neighbour(c, -1, cols, field.periodic);
-                const int right = neighbour(c, 1, cols, field.periodic);
-                if (left < 0 || right < 0 || up < 0 || down < 0) continue;
-                const double zx = (field.at(r, right) - field.at(r, left)) / (2.0 * dx);
-                const double zy = (field.at(up, c) - field.at(down, c)) / (2.0 * dy);  // row r − 1 is at larger y
-                if (std::isnan(zx) || std::isnan(zy)) continue;
-                const double slope_squared = zx * zx + zy * zy;
-                ++sums.gradients;
-                sums.gradient_squares += slope_squared;
-                // √(1+g²) − 1 written as g² / (√(1+g²) + 1): no cancellation for small slopes.
-                sums.area_excess += slope_squared / (std::sqrt(1.0 + slope_squared) + 1.0);
-            }
+            if (up < 0 || down < 0) continue;
+            const float* above = row_at(up);
+            const float* below = row_at(down);
+            // The border columns have a neighbour only on a periodic field.
+            if (field.periodic)
+                add_gradient(row, above, below, 0, cols - 1, 1 % cols, inverse_2dx, inverse_2dy, sums);
+            for (int c = 1; c + 1 < cols; ++c)
+                add_gradient(row, above, below, c, c - 1, c + 1, inverse_2dx, inverse_2dy, sums);
+            if (field.periodic && cols > 1)
+                add_gradient(row, above, below, cols - 1, cols - 2, 0, inverse_2dx, inverse_2dy, sums);
         }
         partial[begin / kRowsPerChunk] = sums;
     });

@@ -47,7 +47,7 @@ TEST(ParallelLimits, RefusedThreadsFallBackToFewerWithTheSameResult) {
         // std::thread the call asks for fails.
         const rlimit limit{static_cast<rlim_t>(virtual_bytes() + (2l << 20)), RLIM_INFINITY};
         if (setrlimit(RLIMIT_AS, &limit) != 0) _exit(3);
-        set_thread_count(64);
+        const ThreadScope threads(64);
         _exit(chunked_sum_of_squares(count) == expected ? 0 : 1);
     }
     int status = 0;

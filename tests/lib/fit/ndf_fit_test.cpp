@@ -43,11 +43,8 @@ TEST(NdfFit, BeckmannAndGgxFitsRecoverTheirOwnParameters) {
 
 TEST(NdfFit, DoesNotDependOnTheThreadCount) {
     const LobeImage ndf = model_ndf_image({NdfModelKind::ellipsoid, {0.3, 0.1, 0.1, 0.05, 0.3}}, 160);
-    set_thread_count(1);
-    const NdfFit one = fit_ndf(ndf, NdfModelKind::ellipsoid);
-    set_thread_count(3);
-    const NdfFit three = fit_ndf(ndf, NdfModelKind::ellipsoid);
-    set_thread_count(0);
+    const NdfFit one = with_threads(1, [&] { return fit_ndf(ndf, NdfModelKind::ellipsoid); });
+    const NdfFit three = with_threads(3, [&] { return fit_ndf(ndf, NdfModelKind::ellipsoid); });
     EXPECT_EQ(one.relative_error, three.relative_error);
     EXPECT_EQ(one.evaluations, three.evaluations);
     EXPECT_EQ(one.model.parameters.theta_z, three.model.parameters.theta_z);

@@ -170,10 +170,7 @@ TEST(GaussianRandomField, NonSquareOddSizes) {
 // ---- Determinism --------------------------------------------------------------------------
 
 Heightfield generate_with_threads(const Recipe& recipe, int threads) {
-    set_thread_count(threads);
-    Heightfield field = generate(recipe);
-    set_thread_count(0);
-    return field;
+    return with_threads(threads, [&] { return generate(recipe); });
 }
 
 TEST(Generate, SameSeedGivesSameBitsOnAnyThreadCount) {

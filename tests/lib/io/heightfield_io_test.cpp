@@ -392,14 +392,30 @@ TEST(HeightfieldIo, X3pVariantsAsWrittenInTheField) {
     EXPECT_NE(load_error(directory.file("wrong.x3p")).find("root element 'ISO25178'"), std::string::npos);
 }
 
-TEST(HeightfieldIo, X3pNonSquareSpacingNeedsAnExplicitTexel) {
+// Instruments' spacings differ in x and y (calibration, line scanners): the reader resamples the
+// coarser axis to the finer spacing and records it; a --texel declares the texels square.
+TEST(HeightfieldIo, X3pRectangularSpacingIsResampledToSquareTexelsAndRecorded) {
     TemporaryDirectory directory;
     const std::string path = directory.file("rect.x3p");
     std::string xml = main_xml({});
     xml.replace(xml.rfind("<Increment>1e-06"), 16, "<Increment>2e-06");  // CY
-    write_zip(path, {{"main.xml", xml}, {"bindata/data.bin", binary(std::vector<double>(12, 1e-6))}});
-    EXPECT_NE(load_error(path).find("needs square texels"), std::string::npos);
+    std::vector<double> ramp;  // h = j µm on stored row j (y = (j + ½)·2 µm): linear in y
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 4; ++i) ramp.push_back(j * 1e-6);
+    write_zip(path, {{"main.xml", xml}, {"bindata/data.bin", binary(ramp)}});
+    const Heightfield field = load_heightfield(path);
+    ASSERT_EQ(field.rows, 6);
+    ASSERT_EQ(field.cols, 4);
+    EXPECT_EQ(field.texel_um, 1.0);
+    // Catmull–Rom reproduces a linear profile exactly: at y = (r + ½)·1 µm, h = y/2 − ½.
+    for (int r = 0; r < 6; ++r) EXPECT_NEAR(field.at(5 - r, 2), 0.5 * r - 0.25, 1e-6) << r;
+    EXPECT_NE(field.provenance.at("square_texels").find("rows 3 -> 6"), std::string::npos);
     EXPECT_EQ(load_heightfield(path, options_with("", {}, 1.5)).texel_um, 1.5);
+    EXPECT_EQ(load_heightfield(path, options_with("", {}, 1.5)).provenance.count("square_texels"), 0u);
+
+    xml.replace(xml.rfind("<Increment>2e-06"), 16, "<Increment>2e-05");  // 20:1
+    write_zip(path, {{"main.xml", xml}, {"bindata/data.bin", binary(ramp)}});
+    EXPECT_NE(load_error(path).find("differ by more than 16 times"), std::string::npos);
 }
 
 // ---- images and unit options ----

@@ -21,6 +21,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+using testing::isotropic_field;
 using testing::sampled_field;
 
 double total_mass(const std::vector<double>& density, int resolution) {
@@ -51,12 +52,6 @@ Footprint whole_field() {
     return footprint;
 }
 
-// A smaller field with the isotropic builtin's recipe (1 µm texel, T = 10 µm, rms slope 0.17).
-Heightfield isotropic_field(int size) {
-    Recipe recipe = default_recipe("isotropic");
-    recipe.grid.rows = recipe.grid.cols = size;
-    return generate(recipe);
-}
 
 TEST(NormalDensity, PlanePutsAllWeightInThePixelOfItsNormal) {
     const double a = 0.3, b = -0.2;
@@ -389,11 +384,8 @@ TEST(NormalDensity, IntrinsicRoughnessBlursAPlaneIntoAGaussianOfThatWidth) {
 TEST(NormalDensity, SameBitsForOneAndFourThreads) {
     const BicubicInterpolant surface(isotropic_field(128));
     const Footprint footprint = gaussian_at({30.0, 90.0}, 10.0);
-    set_thread_count(1);
-    const std::vector<double> one = normal_density(surface, footprint, 96, {});
-    set_thread_count(4);
-    const std::vector<double> four = normal_density(surface, footprint, 96, {});
-    set_thread_count(0);
+    const std::vector<double> one = with_threads(1, [&] { return normal_density(surface, footprint, 96, {}); });
+    const std::vector<double> four = with_threads(4, [&] { return normal_density(surface, footprint, 96, {}); });
     EXPECT_EQ(one, four);
 }
 

@@ -209,12 +209,11 @@ TEST(FillMissing, ResultIsIdenticalForAnyThreadCount) {
     for (int k = 0; k < 200; ++k) punch_disk(holes, (k * 71) % 260, 240 + (k * 13) % 60, 1.5);
     std::vector<Heightfield> results;
     for (int threads : {1, 2, 3}) {
-        set_thread_count(threads);
+        const ThreadScope scope(threads);
         Heightfield field = holes;
         fill_missing(field);
         results.push_back(field);
     }
-    set_thread_count(0);
     for (std::size_t k = 1; k < results.size(); ++k)
         EXPECT_EQ(std::memcmp(results[0].heights_um.data(), results[k].heights_um.data(),
                               results[0].size() * sizeof(float)),

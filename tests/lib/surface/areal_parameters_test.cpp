@@ -173,11 +173,8 @@ TEST(ArealParameters, ADirectionThatNeverDecaysGivesABoundNotNaN) {
 
 TEST(ArealParameters, SameForAnyThreadCount) {
     const Heightfield field = gaussian_field(128, 5.0, 3.0, 11);
-    set_thread_count(1);
-    const ArealParameters one = compute_areal_parameters(field);
-    set_thread_count(4);
-    const ArealParameters four = compute_areal_parameters(field);
-    set_thread_count(0);
+    const ArealParameters one = with_threads(1, [&] { return compute_areal_parameters(field); });
+    const ArealParameters four = with_threads(4, [&] { return compute_areal_parameters(field); });
     EXPECT_EQ(one.sq_um, four.sq_um);
     EXPECT_EQ(one.sdr, four.sdr);
     EXPECT_EQ(one.sal_um, four.sal_um);

@@ -152,11 +152,8 @@ TEST(Statistics, SameBitsOnAnyThreadCount) {
     Heightfield field = make_heightfield(300, 170, 0.7);
     for (std::size_t i = 0; i < field.size(); ++i)
         field.heights_um[i] = i % 97 == 0 ? kMissing : static_cast<float>(std::sin(0.37 * i) + 0.01 * (i % 13));
-    set_thread_count(1);
-    const SurfaceStatistics one = compute_statistics(field);
-    set_thread_count(2);
-    const SurfaceStatistics two = compute_statistics(field);
-    set_thread_count(0);
+    const SurfaceStatistics one = with_threads(1, [&] { return compute_statistics(field); });
+    const SurfaceStatistics two = with_threads(2, [&] { return compute_statistics(field); });
     EXPECT_EQ(std::memcmp(&one, &two, sizeof one), 0);
 }
 

@@ -59,7 +59,32 @@ private:
 // The BSDF of `method` for the query's footprint, heightfield, wavelengths, model, material,
 // method options and resolution (of the tables); the query's ω_i and supersampling are not used.
 // Checks the query as plan_lobe does and throws Error with one line naming the problem.
+// A method with a point query for any footprint (docs/renderer.md) answers with it.
 Bsdf make_bsdf(const std::string& method, const LobeQuery& query);
+
+// A method's BSDFs for every footprint of one heightfield, for renderers whose every shading
+// point has its own footprint: what is costly (a hierarchy over the whole heightfield) is built
+// once from the query (its footprint, ω_i and supersampling unused), and `at` is then cheap and
+// safe to call from many threads. at(query.footprint) answers exactly as make_bsdf(method, query).
+class BsdfField {
+public:
+    Bsdf at(const Footprint& footprint) const;
+    const std::string& method() const;
+    const std::vector<double>& wavelengths_um() const;
+
+    struct State;
+    explicit BsdfField(std::shared_ptr<const State> state);
+
+private:
+    std::shared_ptr<const State> state_;
+};
+
+// Checks the query as make_bsdf does; refuses in one line (Error) a method without a point query
+// for any footprint.
+BsdfField make_bsdf_field(const std::string& method, const LobeQuery& query);
+
+// The methods make_bsdf_field accepts, in table order.
+std::vector<std::string> bsdf_field_methods();
 
 struct NdfSample {
     Vec3 h;
@@ -67,11 +92,15 @@ struct NdfSample {
 };
 
 // A method's normal distribution of one footprint as a function: D(h), and h sampled by
-// projected area (pdf = D(h) h_z / ∫ D h_z dω). Same sharing and threading as Bsdf.
+// projected area (pdf = D(h) h_z / ∫ D h_z dω). Same sharing and threading as Bsdf. D is the
+// method's point query where it has one (pndf: the exact D at h, whose mean over an image pixel
+// is the pixel), else the pixel of its image holding h; sampling is always from the image.
 class Ndf {
 public:
     // D(h) per wavelength of the query (one value for wavelength-independent methods' copies).
     std::vector<double> eval(Vec3 h) const;
+    // Whether eval is the method's point query (else its image's pixels).
+    bool evaluates_directly() const;
     NdfSample sample(double u1, double u2) const;
     double pdf(Vec3 h) const;
     // ∫ D(h) h_z dω_h per wavelength: 1 for a normalised NDF whose mass lies on the disk.

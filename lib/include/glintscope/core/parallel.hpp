@@ -7,9 +7,32 @@
 
 namespace glintscope {
 
-// Threads used by parallel_for; defaults to $GLINTSCOPE_THREADS or the hardware concurrency.
+// Threads are the caller's: there is no process-wide setting. parallel_for uses the count of the
+// innermost ThreadScope alive on the calling thread (the workers it starts inherit it), else
+// $GLINTSCOPE_THREADS or the hardware concurrency, so calls made from different threads never
+// change each other's count.
 int thread_count();
-void set_thread_count(int threads);  // 0 restores the default
+
+// The thread count of the library calls the constructing thread makes until the scope ends
+// (0: the default); scopes nest. A renderer's threads calling Bsdf::eval/sample need none:
+// those start no threads.
+class ThreadScope {
+public:
+    explicit ThreadScope(int threads);
+    ~ThreadScope();
+    ThreadScope(const ThreadScope&) = delete;
+    ThreadScope& operator=(const ThreadScope&) = delete;
+
+private:
+    int previous_;
+};
+
+// body() run inside a ThreadScope of `threads`, returning what it returns.
+template <typename Body>
+auto with_threads(int threads, const Body& body) {
+    const ThreadScope scope(threads);
+    return body();
+}
 
 // Calls body(begin, end) for consecutive chunks [begin, end) of [0, count) of at most
 // `chunk` items each, spread over the threads. Exceptions thrown by a body are rethrown.

@@ -16,6 +16,7 @@
 // cie_xyz_d65_interchange, else the one named CIE-XYZ-D65.
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,11 @@ void convert_from_xyz(std::vector<float>& pixels, const ColourSettings& settings
 // N×N×3 XYZ of a lobe, D65-adapted as described above; pixels outside the disk are 0.
 std::vector<float> lobe_to_xyz(const LobeImage& lobe, Illuminant illuminant);
 
+// Packed XYZ of any image of per-wavelength layers ([layer][pixel], `pixels` per layer; a render),
+// weighted and adapted as lobe_to_xyz, every pixel counted.
+std::vector<float> layers_to_xyz(std::span<const float> values, std::size_t pixels,
+                                 const std::vector<double>& wavelengths_um, Illuminant illuminant);
+
 // The space's primaries and white as the EXR "chromaticities" attribute (red, green, blue, white
 // xy), for the spaces whose primaries are known (lin_rec709, lin_rec2020, ACEScg, CIE-XYZ-D65);
 // empty for others. Throws Error if the space is display-encoded (not scene-linear), which an
@@ -78,6 +84,13 @@ struct DisplayExposure {
 // The exposure `settings` ask for: the given EV, or auto: the luminance percentile inside the
 // disk (the maximum on a log scale, or when the percentile is 0) shows as 1; EV 0 for a black lobe.
 DisplayExposure display_exposure(const LobeImage& lobe, const ColourSettings& settings);
+
+// display_exposure's rules over packed XYZ pixels, every pixel counted (a render).
+DisplayExposure xyz_exposure(const std::vector<float>& xyz, const ColourSettings& settings);
+
+// Packed XYZ pixels exposed as `exposure` says, as 8-bit pixels in settings.display_space.
+std::vector<std::uint8_t> xyz_to_display(std::vector<float> xyz, const DisplayExposure& exposure,
+                                         const ColourSettings& settings);
 
 // N×N×3 8-bit display pixels in settings.display_space, exposed by display_exposure.
 struct DisplayImage {

@@ -8,8 +8,6 @@
 
 namespace glintscope {
 
-inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-
 struct SphericalTriangle {
     std::array<Vec3, 3> v;
 };

@@ -101,13 +101,6 @@ LobeImage fixed_lambda_lobe(const LobeQuery& query, double lambda_q, const std::
     return image;
 }
 
-std::vector<ComplexIndex> refractive_indices(const LobeQuery& query) {
-    std::vector<ComplexIndex> indices;
-    if (!query.material.name.empty())
-        for (double lambda : query.wavelengths_um) indices.push_back(complex_refractive_index(query.material.name, lambda));
-    return indices;
-}
-
 LobeImage kirchhoff_distribution(const LobeQuery& query) {
     const double lambda_q = lambda_q_um(query);
     if (query.quantity == Quantity::ndf) {

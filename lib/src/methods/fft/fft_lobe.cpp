@@ -474,6 +474,18 @@ void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometr
             shortest_text(std::round(energy_inside(query.footprint, *query.field) * 1e6) / 1e6);
 }
 
+FootprintSamples layer_samples(const LobeQuery& query, const ScatteringGeometry& geometry, double lambda_um) {
+    const FftSettings settings = fft_settings(query);
+    const FootprintExtent extent = footprint_extent(query.footprint, settings.window_sigmas);
+    const double xi3_max = phase_depends_on_outgoing(query.model) ? geometry.offset.z + geometry.scale : 2.0;
+    const SlopeBound slopes = settings.step_um > 0.0 ? SlopeBound{} : footprint_slopes(*query.surface, extent);
+    double q = settings.oversampling;
+    FootprintSamples samples =
+        sample_for_wavelength(query, geometry, extent, settings, lambda_um, xi3_max, slopes, nullptr, q);
+    if (settings.truncate_at_edges) truncate_at_edges(samples, *query.field);
+    return samples;
+}
+
 namespace {
 
 LobeImage fft_lobe(const LobeQuery& query) {

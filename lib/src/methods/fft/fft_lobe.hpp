@@ -63,6 +63,17 @@ struct ReflectionSource {
 void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometry, const ScatteringFactor& factor,
                        LobeImage& image, const ReflectionSource* source = nullptr);
 
+// The footprint grid that scattering_layers samples for one wavelength (its step alias-free for
+// the geometry, or the option's; edges truncated as the options say), without `source`.
+FootprintSamples layer_samples(const LobeQuery& query, const ScatteringGeometry& geometry, double lambda_um);
+
+// Yan 2018 eq. 6 at single directions (fft_point.cpp): for each ω_i and wavelength the grid of
+// layer_samples (made on first use; the 16 most recent are kept), then R̃*(ψ̄/λ) summed directly
+// over it, so that eval is the image's pixel at supersample 1 (to its chirp-z transforms'
+// rounding) for OHS and R-OHS. GHS, R-GHS and Kirchhoff use the exact ξ3 = ψ·n of each direction,
+// where the image interpolates between ξ3 nodes (within its phase_error).
+PointAnswers fft_point(const LobeQuery& query);
+
 // The options above, checked.
 struct FftSettings {
     double step_um = 0.0;  // 0: chosen per wavelength and axis

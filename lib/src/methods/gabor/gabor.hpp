@@ -85,6 +85,10 @@ GaborSettings gabor_settings(const LobeQuery& query);
 // records the kernel grid, count, truncations and evaluation scheme under "gabor.*".
 LobeImage gabor_lobe(const LobeQuery& query);
 
+// Point answers at any footprint of the query's heightfield (lobe/point_answers.hpp): eval by
+// GaborSurface, sample and pdf by the footprint's kernel mixture (gabor_sampling.hpp).
+PointAnswersAt gabor_point_field(const LobeQuery& query);
+
 // The method-table entry: "gabor", Yan 2018 §4-5, brdf, the options of gabor_settings.
 MethodEntry gabor_method();
 

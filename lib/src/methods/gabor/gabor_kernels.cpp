@@ -20,7 +20,6 @@ namespace {
 
 using Double4 = double __attribute__((vector_size(32)));
 
-[[gnu::always_inline]] inline void load4(const double* values, Double4& v) { std::memcpy(&v, values, sizeof v); }
 
 // The kernel's amplitude where v lies in its box |v + a_k| ≤ reach, else 0 (per lane).
 [[gnu::always_inline]] inline double keep_inside(double dx, double dy, double reach2, double amplitude) {
@@ -68,18 +67,6 @@ template <typename T>
     sum_im -= kept * sin_phase;
 }
 
-// T values from consecutive kernels at p: one for double, four for Double4.
-template <typename T>
-[[gnu::always_inline]] inline T lanes(const double* p) {
-    if constexpr (std::is_same_v<T, double>) {
-        return *p;
-    } else {
-        T v;
-        load4(p, v);
-        return v;
-    }
-}
-
 // Four kernels per step in SIMD lanes, the remainder one by one; each lane sums a fixed subset
 // of the kernels, so the result depends only on the kernel order. add(i, re, im) adds the terms
 // of kernels i… to re and im (double or Double4).
@@ -103,8 +90,8 @@ void sum_kernel_terms(const KernelArrays& k, std::size_t begin, std::size_t end,
     const double reach2 = reach * reach;
     const auto add = [&](std::size_t i, auto& re, auto& im) __attribute__((always_inline)) {
         using T = std::decay_t<decltype(re)>;
-        add_term(lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]), lanes<T>(&k.slope_x[i]),
-                 lanes<T>(&k.slope_y[i]), lanes<T>(&k.weight[i]), point, reach2, beta, re, im);
+        add_term(gabor_math::lanes<T>(&k.px[i]), gabor_math::lanes<T>(&k.py[i]), gabor_math::lanes<T>(&k.height[i]), gabor_math::lanes<T>(&k.slope_x[i]),
+                 gabor_math::lanes<T>(&k.slope_y[i]), gabor_math::lanes<T>(&k.weight[i]), point, reach2, beta, re, im);
     };
     sum_in_lanes(begin, end, add, out_re, out_im);
 }
@@ -164,9 +151,9 @@ void sum_chirped_terms(const KernelArrays& k, std::size_t begin, std::size_t end
     const double reach2 = reach * reach;
     const auto add = [&](std::size_t i, auto& re, auto& im) __attribute__((always_inline)) {
         using T = std::decay_t<decltype(re)>;
-        add_chirped_term(lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]), lanes<T>(&k.slope_x[i]),
-                         lanes<T>(&k.slope_y[i]), lanes<T>(&k.weight[i]), lanes<T>(&k.curvature_xx[i]),
-                         lanes<T>(&k.curvature_xy[i]), lanes<T>(&k.curvature_yy[i]), point, reach2, beta,
+        add_chirped_term(gabor_math::lanes<T>(&k.px[i]), gabor_math::lanes<T>(&k.py[i]), gabor_math::lanes<T>(&k.height[i]), gabor_math::lanes<T>(&k.slope_x[i]),
+                         gabor_math::lanes<T>(&k.slope_y[i]), gabor_math::lanes<T>(&k.weight[i]), gabor_math::lanes<T>(&k.curvature_xx[i]),
+                         gabor_math::lanes<T>(&k.curvature_xy[i]), gabor_math::lanes<T>(&k.curvature_yy[i]), point, reach2, beta,
                          chirp_scale, re, im);
     };
     sum_in_lanes(begin, end, add, out_re, out_im);
@@ -227,6 +214,51 @@ void CoherenceWindow::check_kernel_count(const KernelGrid& grid) const {
                       kernels, kMaxFootprintKernels);
         throw Error(message);
     }
+}
+
+namespace {
+
+constexpr int kBlockKernels = 8;  // kernels gathered in blocks of this side (their order)
+
+// Kernel indices i with centre (i + ½) l in [centre − extent, centre + extent].
+void index_range(double centre, double extent, double spacing, long long& first, long long& last) {
+    first = static_cast<long long>(std::ceil((centre - extent) / spacing - 0.5));
+    last = static_cast<long long>(std::floor((centre + extent) / spacing - 0.5));
+}
+
+}  // namespace
+
+FootprintKernels gather_kernels(const BicubicInterpolant& surface, const KernelGrid& grid,
+                                const CoherenceWindow& window, Point2 centre) {
+    window.check_kernel_count(grid);
+    long long i0, i1, j0, j1;
+    index_range(centre.x, window.half_extent_um().x, grid.spacing_um, i0, i1);
+    index_range(centre.y, window.half_extent_um().y, grid.spacing_um, j0, j1);
+    const double reference_height = surface.height(centre.x, centre.y);
+    const double weight_scale = grid.spacing_um * grid.spacing_um;
+    FootprintKernels kernels;
+    std::vector<SurfacePoint> row(kBlockKernels);
+    for (long long bj = j0; bj <= j1; bj += kBlockKernels)
+        for (long long bi = i0; bi <= i1; bi += kBlockKernels) {
+            for (long long j = bj; j <= std::min(j1, bj + kBlockKernels - 1); ++j) {
+                const double py = grid.centre(j) - centre.y;
+                long long first = 0;
+                long long last = -1;
+                if (!window.row_span(grid, centre.x, py, bi, std::min(i1, bi + kBlockKernels - 1), first, last))
+                    continue;
+                const int count = static_cast<int>(last - first + 1);
+                evaluate_kernels(surface, grid, first, j, count, 1, row.data());
+                kernels.arrays.reserve_more(count);
+                for (int k = 0; k < count; ++k) {
+                    const double px = grid.centre(first + k) - centre.x;
+                    kernels.arrays.push(px, py, row[k], reference_height, window.weight(px, py) * weight_scale);
+                    if (grid.order == 2)
+                        kernels.arrays.set_curvature(kernels.arrays.size() - 1,
+                                                     kernel_curvature(surface, grid, first + k, j));
+                }
+            }
+        }
+    return kernels;
 }
 
 FresnelAtWavelength::FresnelAtWavelength(const MaterialChoice& material, double lambda_um)

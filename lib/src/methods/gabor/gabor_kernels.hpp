@@ -190,6 +190,16 @@ private:
     std::size_t size_ = 0;
 };
 
+// The kernels inside the coherence window centred at `centre`, gathered block by block (8 × 8
+// cells of the kernel grid), which fixes their order and so the rounding of every sum over them;
+// H'' too at second order. Heights are relative to H(centre). Throws Error (check_kernel_count)
+// for a footprint of too many kernels.
+struct FootprintKernels {
+    KernelArrays arrays;
+};
+FootprintKernels gather_kernels(const BicubicInterpolant& surface, const KernelGrid& grid,
+                                const CoherenceWindow& window, Point2 centre);
+
 // The constants of one (ω_i, ω_o, λ): v = ψ̄/λ, ξ3/λ, Kirchhoff's ξ2 = 1 − g·H' (g = 0 for the
 // other models, whose ξ2 = 1), and the factor ξ1/A_c that turns |Σ|² into f_r.
 struct TransformPoint {

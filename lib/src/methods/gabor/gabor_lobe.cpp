@@ -24,57 +24,8 @@ namespace {
 using gabor::KernelArrays;
 using gabor::KernelGrid;
 
-constexpr int kBlockKernels = 8;                     // kernels gathered in blocks of this side (their order)
 constexpr double kPanelTableBytes = 256.0 * (1 << 20);  // transform tables of one panel of the image
 constexpr int kMaxXi3Nodes = 512;
-
-// ---- The footprint's kernels -----------------------------------------------------------------
-
-// The kernels inside the coherence window, gathered block by block (kBlockKernels² cells of the
-// kernel grid), which fixes their order and so the rounding of every sum over them.
-struct FootprintKernels {
-    KernelArrays arrays;
-};
-
-// Kernel indices i with centre (i + ½) l in [centre − extent, centre + extent].
-void index_range(double centre, double extent, double spacing, long long& first, long long& last) {
-    first = static_cast<long long>(std::ceil((centre - extent) / spacing - 0.5));
-    last = static_cast<long long>(std::floor((centre + extent) / spacing - 0.5));
-}
-
-FootprintKernels gather_kernels(const BicubicInterpolant& surface, const KernelGrid& grid,
-                                const gabor::CoherenceWindow& window, Point2 centre) {
-    window.check_kernel_count(grid);
-    long long i0, i1, j0, j1;
-    index_range(centre.x, window.half_extent_um().x, grid.spacing_um, i0, i1);
-    index_range(centre.y, window.half_extent_um().y, grid.spacing_um, j0, j1);
-    const double reference_height = surface.height(centre.x, centre.y);
-    const double weight_scale = grid.spacing_um * grid.spacing_um;
-    FootprintKernels kernels;
-    std::vector<SurfacePoint> row(kBlockKernels);
-    for (long long bj = j0; bj <= j1; bj += kBlockKernels)
-        for (long long bi = i0; bi <= i1; bi += kBlockKernels) {
-            for (long long j = bj; j <= std::min(j1, bj + kBlockKernels - 1); ++j) {
-                const double py = grid.centre(j) - centre.y;
-                long long first = 0;
-                long long last = -1;
-                if (!window.row_span(grid, centre.x, py, bi, std::min(i1, bi + kBlockKernels - 1), first, last))
-                    continue;
-                const int count = static_cast<int>(last - first + 1);
-                gabor::evaluate_kernels(surface, grid, first, j, count, 1, row.data());
-                kernels.arrays.reserve_more(count);
-                for (int k = 0; k < count; ++k) {
-                    const double px = grid.centre(first + k) - centre.x;
-                    const SurfacePoint& p = row[k];
-                    kernels.arrays.push(px, py, p, reference_height, window.weight(px, py) * weight_scale);
-                    if (grid.order == 2)
-                        kernels.arrays.set_curvature(kernels.arrays.size() - 1,
-                                                     gabor::kernel_curvature(surface, grid, first + k, j));
-                }
-            }
-        }
-    return kernels;
-}
 
 // ---- The sample grid -------------------------------------------------------------------------
 
@@ -312,7 +263,7 @@ struct ProductTables {
 
 // Adds to `field` the node's U (Kirchhoff: U − (g_x U_x + g_y U_y), ξ2 = 1 − g·H' being affine in
 // H', Yan 2018 Fig. 6) at every sample of the tiles that need it, times its interpolation weight.
-void add_node(const LayerSetup& layer, const FootprintKernels& kernels, const NodePlan& plan, int node,
+void add_node(const LayerSetup& layer, const gabor::FootprintKernels& kernels, const NodePlan& plan, int node,
               double mean_height, ProductTables& tables, std::vector<std::vector<std::complex<double>>>& u,
               std::vector<std::complex<double>>& field) {
     const KernelArrays& k = kernels.arrays;
@@ -385,7 +336,7 @@ void add_node(const LayerSetup& layer, const FootprintKernels& kernels, const No
 
 // ξ3 per sample and the nodes: one (ξ3 = 2) for OHS and R-OHS; for GHS, R-GHS and Kirchhoff the
 // nodes of choose_xi3_slices for the kernels' heights about their |w|-weighted mean.
-NodePlan plan_nodes(const LayerSetup& layer, const FootprintKernels& kernels, double mean_height) {
+NodePlan plan_nodes(const LayerSetup& layer, const gabor::FootprintKernels& kernels, double mean_height) {
     NodePlan plan;
     const LobeQuery& query = layer.query;
     FootprintSamples heights;  // the slice chooser reads weights and heights only
@@ -419,7 +370,7 @@ double mean_kernel_height(const KernelArrays& k) {
 }
 
 // f_r = ξ1/A_c |Σ_nodes w_node U_node|² at every sample (Yan 2018 eq. 16-17).
-void product_layer(const LayerSetup& layer, const FootprintKernels& kernels, ProductTables& tables,
+void product_layer(const LayerSetup& layer, const gabor::FootprintKernels& kernels, ProductTables& tables,
                    std::vector<double>& sums, int& node_count) {
     const bool sliced = phase_depends_on_outgoing(layer.query.model);
     // One node: keep the heights as gathered (a constant phase per layer changes nothing but rounding).
@@ -447,7 +398,7 @@ void product_layer(const LayerSetup& layer, const FootprintKernels& kernels, Pro
 // Second order: a chirped kernel's transform is not separable in v_x and v_y (H_xy couples them),
 // so each sample sums every kernel's closed form (sum_transforms, the point query's sum) and ξ3
 // is exact at each sample.
-void chirped_layer(const LayerSetup& layer, const FootprintKernels& kernels, std::vector<double>& sums) {
+void chirped_layer(const LayerSetup& layer, const gabor::FootprintKernels& kernels, std::vector<double>& sums) {
     const int m = layer.samples.size();
     parallel_for(m, 1, [&](std::size_t begin, std::size_t end) {
         for (std::size_t r = begin; r < end; ++r)
@@ -462,7 +413,7 @@ void chirped_layer(const LayerSetup& layer, const FootprintKernels& kernels, std
     });
 }
 
-void record_settings(const GaborSettings& settings, const KernelGrid& grid, const FootprintKernels& kernels,
+void record_settings(const GaborSettings& settings, const KernelGrid& grid, const gabor::FootprintKernels& kernels,
                      const LobeQuery& query, LobeImage& image) {
     image.metadata["gabor.kernels_per_texel"] = std::to_string(settings.kernels_per_texel);
     image.metadata["gabor.order"] = std::to_string(settings.order);
@@ -476,7 +427,7 @@ void record_settings(const GaborSettings& settings, const KernelGrid& grid, cons
 // Second order: the spectral reach a kernel's chirp adds within 2σ_k of its centre (where its
 // Gaussian is e^{−2} of its peak), ξ3 ρ(H'') 2√2 σ_k/λ at ξ3 ≤ 2 and the shortest wavelength;
 // farther out the Gaussian is small enough that the FFT's slope padding covers it.
-double chirp_bandwidth(const LobeQuery& query, const KernelGrid& grid, const FootprintKernels& kernels) {
+double chirp_bandwidth(const LobeQuery& query, const KernelGrid& grid, const gabor::FootprintKernels& kernels) {
     if (grid.order != 2) return 0.0;
     const KernelArrays& k = kernels.arrays;
     double radius = 0.0;
@@ -489,7 +440,7 @@ double chirp_bandwidth(const LobeQuery& query, const KernelGrid& grid, const Foo
 // The kernels summed in space on the FFT method's grid and transformed by its chirp-z transforms
 // (gabor_field.hpp): the cost of an FFT image plus the splatting, for every model.
 LobeImage gabor_lobe_on_grid(const LobeQuery& query, const GaborSettings& settings, const KernelGrid& grid,
-                             const FootprintKernels& kernels) {
+                             const gabor::FootprintKernels& kernels) {
     const Point2 centre = query.footprint.centre_um;
     const ReflectionSource source =
         gabor::kernel_field_source(kernels.arrays, grid, centre, query.surface->height(centre.x, centre.y),
@@ -514,7 +465,7 @@ LobeImage gabor_lobe(const LobeQuery& query) {
     const BicubicInterpolant& surface = *query.surface;
     const KernelGrid grid = gabor::kernel_grid(surface.texel_um(), settings);
     const gabor::CoherenceWindow window(query.footprint, settings.footprint_sigmas);
-    const FootprintKernels kernels = gather_kernels(surface, grid, window, query.footprint.centre_um);
+    const gabor::FootprintKernels kernels = gabor::gather_kernels(surface, grid, window, query.footprint.centre_um);
     const double phase_error = method_option_number(query, "phase_error", 0.01);
     if (!(phase_error > 0.0 && phase_error <= 1.0))
         throw Error("option phase_error must be in (0, 1], got " + shortest_text(phase_error));
@@ -582,7 +533,9 @@ MethodEntry gabor_method() {
               {"evaluation", "grid: kernels summed in space, transformed like fft (default; fast); products: the "
                              "closed-form sum of the kernels' transforms, cut at kernel_truncation"}},
              true},
-            gabor_lobe};
+            gabor_lobe,
+            nullptr,
+            gabor_point_field};
 }
 
 }  // namespace glintscope

@@ -1,8 +1,22 @@
 #pragma once
 // Branch-free exp(−x) and e^{−i2πt} for the Gabor kernel sums: plain polynomials, so that they
 // also run on SIMD vectors, where libm has no calls to offer.
+#include <cstring>
+#include <type_traits>
 
 namespace glintscope::gabor_math {
+
+// T values from consecutive doubles at p: one for double, all lanes for a vector type.
+template <typename T>
+[[gnu::always_inline]] inline T lanes(const double* p) {
+    if constexpr (std::is_same_v<T, double>) {
+        return *p;
+    } else {
+        T v;
+        std::memcpy(&v, p, sizeof v);
+        return v;
+    }
+}
 
 // Each function is a template over double and GCC vector types of double (vector_size), whose
 // arithmetic is elementwise with scalars broadcast.

@@ -5,6 +5,10 @@
 #include <cmath>
 #include <string>
 
+#include <memory>
+
+#include "normal_density/microfacet_answers.hpp"
+#include "normal_density/normal_bounds_tree.hpp"
 #include "normal_density/normal_density.hpp"
 #include "numerics/disk_table.hpp"
 #include "glintscope/core/error.hpp"
@@ -44,26 +48,38 @@ GeometricSettings read_settings(const LobeQuery& query) {
     return settings;
 }
 
+// The internal NDF resolution for point-sampled pixels: ndf_oversampling × the lobe's.
+int table_resolution(const LobeQuery& query, const GeometricSettings& settings) {
+    return std::min(query.resolution * settings.ndf_oversampling, 8192);
+}
+
+// The density settings at an internal resolution: the tolerance is in lobe pixels (the lobe,
+// not the finer internal table, is what must not move).
+NormalDensitySettings table_density_settings(const LobeQuery& query, const GeometricSettings& settings, int resolution) {
+    NormalDensitySettings density = settings.density;
+    density.tolerance_pixels *= static_cast<double>(resolution) / query.resolution;
+    return density;
+}
+
+// The field whose normals D counts: the heightfield's interpolant, or the filtered NDF's
+// smoothed one (Dong 2015 §5.1).
+std::shared_ptr<const BicubicInterpolant> ndf_surface(const LobeQuery& query, const GeometricSettings& settings) {
+    if (!settings.filtered) return query.surface;
+    return std::make_shared<const BicubicInterpolant>(gaussian_smoothed(*query.field, settings.filter_sigma_um));
+}
+
 DiskTable density_table(const LobeQuery& query, const GeometricSettings& settings) {
     DiskTable table;
-    table.resolution = query.resolution * settings.ndf_oversampling;
+    table.resolution = table_resolution(query, settings);
     if (query.supersample == kExactPixels) {
         // A table cell's albedo factor (ω_i·h)/h_z is taken at its centre, wherever in the cell its
         // mass lies: off by up to tanθ_i/N_table relatively (a mirror's single normal). 200 tanθ_i
         // cells across keep that within 0.5% (80°: 1134).
         const double tan_i = std::sqrt(std::max(0.0, 1.0 - query.omega_i.z * query.omega_i.z)) / query.omega_i.z;
-        table.resolution = std::max(table.resolution, int(std::ceil(200.0 * tan_i)));
+        table.resolution = std::min(std::max(table.resolution, int(std::ceil(200.0 * tan_i))), 8192);
     }
-    table.resolution = std::min(table.resolution, 8192);
-    // The tolerance is in lobe pixels: the lobe, not the finer internal table, is what must not move.
-    NormalDensitySettings density = settings.density;
-    density.tolerance_pixels *= static_cast<double>(table.resolution) / query.resolution;
-    if (settings.filtered) {
-        const BicubicInterpolant smoothed(gaussian_smoothed(*query.field, settings.filter_sigma_um));
-        table.values = normal_density(smoothed, query.footprint, table.resolution, density);
-    } else {
-        table.values = normal_density(*query.surface, query.footprint, table.resolution, density);
-    }
+    const NormalDensitySettings density = table_density_settings(query, settings, table.resolution);
+    table.values = normal_density(*ndf_surface(query, settings), query.footprint, table.resolution, density);
     return table;
 }
 
@@ -294,6 +310,30 @@ LobeImage geometric_lobe(const LobeQuery& query) {
     return image;
 }
 
+// f_r for any footprint from one tree over the field: the point query of the same triangles
+// as the internal table of point-sampled pixels, read at h itself rather than bilinearly.
+// Shadowing needs the footprint's whole NDF (Smith's integral, the ellipsoid fit), and a box's
+// lattice is not the texels': those are answered from the images.
+PointAnswersAt geometric_point_field(const LobeQuery& query) {
+    const GeometricSettings settings = read_settings(query);
+    if (settings.shadowing != Shadowing::none) return [](const Footprint&) { return PointAnswers{}; };
+    const int resolution = table_resolution(query, settings);
+    const NormalDensitySettings density = table_density_settings(query, settings, resolution);
+    auto tree = std::make_shared<const NormalBoundsTree>(
+        make_normal_bounds_tree(ndf_surface(query, settings), density, resolution));
+    const std::vector<ComplexIndex> indices = refractive_indices(query);
+    const std::size_t layers = query.wavelengths_um.size();
+    return [tree, indices, layers](const Footprint& footprint) -> PointAnswers {
+        if (!answers_points(footprint)) return {};
+        return {[tree, indices, layers, footprint](Vec3 omega_i, Vec3 omega_o) {
+                    const Vec3 h = normalize(omega_i + omega_o);
+                    return microfacet_value(point_normal_density(*tree, footprint, {h.x, h.y}), 1.0, omega_i, omega_o, h,
+                                            indices, layers);
+                },
+                {}, {}};
+    };
+}
+
 }  // namespace
 
 MethodEntry geometric_method() {
@@ -312,6 +352,8 @@ MethodEntry geometric_method() {
     entry.info.whole_field = true;
     entry.info.exact_pixels = true;
     entry.compute = geometric_lobe;
+    entry.point_field = geometric_point_field;
+    entry.bsdf_from_images = true;  // the field evaluates the continuous P-NDF; the images integrate pixels
     return entry;
 }
 

@@ -1,7 +1,10 @@
 #include "methods/pndf/pndf.hpp"
 
+#include <memory>
+
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "normal_density/normal_bounds_tree.hpp"
 
 namespace glintscope {
 
@@ -49,6 +52,20 @@ LobeImage patch_ndf(const LobeQuery& query) {
     return image;
 }
 
+// D(h) for any footprint from one tree over the field (eval(·, h): an NDF's point answer).
+PointAnswersAt pndf_point_field(const LobeQuery& query) {
+    auto tree = std::make_shared<const NormalBoundsTree>(
+        make_normal_bounds_tree(query.surface, normal_density_settings(query), query.resolution));
+    const std::size_t layers = query.wavelengths_um.size();
+    return [tree, layers](const Footprint& footprint) -> PointAnswers {
+        if (!answers_points(footprint)) return {};
+        return {[tree, footprint, layers](Vec3, Vec3 h) {
+                    return std::vector<double>(layers, point_normal_density(*tree, footprint, {h.x, h.y}));
+                },
+                {}, {}};
+    };
+}
+
 }  // namespace
 
 MethodEntry pndf_method() {
@@ -62,6 +79,7 @@ MethodEntry pndf_method() {
     entry.info.options = normal_density_options();
     entry.info.whole_field = true;
     entry.compute = patch_ndf;
+    entry.point_field = pndf_point_field;
     return entry;
 }
 

@@ -5,6 +5,8 @@
 // The image holds D, one identical layer per query wavelength; Σ D·(2/N)² = 1.
 // Metadata: "pndf.refinement", "pndf.tolerance_pixels", "pndf.intrinsic_roughness_rad",
 // "pndf.weight_sigma_um".
+// Point field: one normal-bounds tree over the field (normal_density/normal_bounds_tree.hpp)
+// answers D(h) = eval(·, h) for any Gaussian or whole-field footprint; a box: from the images.
 #include <vector>
 
 #include "normal_density/normal_density.hpp"

@@ -297,11 +297,8 @@ TEST(ChirpedGaborLobe, IdenticalForAnyThreadCount) {
         LobeQuery query = small_query(32, 1);
         query.model = DiffractionModel::kirchhoff;
         query.method_options["evaluation"] = evaluation;
-        set_thread_count(1);
-        const LobeImage one = compute_lobe("gabor", query);
-        set_thread_count(3);
-        const LobeImage three = compute_lobe("gabor", query);
-        set_thread_count(0);
+        const LobeImage one = with_threads(1, [&] { return compute_lobe("gabor", query); });
+        const LobeImage three = with_threads(3, [&] { return compute_lobe("gabor", query); });
         EXPECT_EQ(one.values, three.values) << evaluation;
     }
 }

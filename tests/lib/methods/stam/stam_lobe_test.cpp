@@ -136,11 +136,11 @@ std::vector<double> mean_fft_lobe(const LobeQuery& query, int grid_side, double 
     // Two footprint workers with single-threaded FFTs: at 48² one FFT lobe does not fill the cores.
     constexpr int kWorkers = 2;
     std::vector<std::vector<double>> sums(kWorkers, std::vector<double>(resolution * resolution));
-    set_thread_count(1);
     {
         std::vector<std::thread> workers;
         for (int t = 0; t < kWorkers; ++t)
             workers.emplace_back([&, t] {
+                const ThreadScope single(1);
                 LobeQuery own = query;
                 for (int index = t; index < count; index += kWorkers) {
                     own.footprint.centre_um = {(index % grid_side + 0.5) * spacing, (index / grid_side + 0.5) * spacing};
@@ -150,7 +150,6 @@ std::vector<double> mean_fft_lobe(const LobeQuery& query, int grid_side, double 
             });
         for (std::thread& worker : workers) worker.join();
     }
-    set_thread_count(0);
     std::vector<double> mean(static_cast<std::size_t>(resolution) * resolution);
     for (std::size_t k = 0; k < mean.size(); ++k) mean[k] = (sums[0][k] + sums[1][k]) / count;
     return mean;
@@ -527,9 +526,7 @@ TEST(StamLobe, ReciprocalAndThreadIndependent) {
         query.omega_i = b;
         const LobeImage backward = stam_lobe(query);
         EXPECT_NEAR(forward.at(0, 22, 12) / backward.at(0, 10, 25), 1.0, 1e-5) << to_string(model);
-        set_thread_count(1);
-        EXPECT_EQ(stam_lobe(query).values, backward.values);
-        set_thread_count(0);
+        EXPECT_EQ(with_threads(1, [&] { return stam_lobe(query); }).values, backward.values);
     }
 }
 

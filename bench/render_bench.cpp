@@ -1,0 +1,30 @@
+// Rendering the Patch scene (Yan 2018 Table 1, render.hpp) on the isotropic builtin (1024² at 1 µm,
+// tiled): gabor, one kernel per texel, σ_c = 10 µm, 4 spp, the default camera and light, at the
+// image size of the argument's height (16:9), single wavelength (0.4 µm, the paper's) and 8 bins.
+#include <benchmark/benchmark.h>
+
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/optics/spectrum.hpp"
+#include "glintscope/render/render.hpp"
+
+namespace {
+
+glintscope::Scene patch_scene(int height, bool spectral) {
+    static const glintscope::Heightfield field = glintscope::generate_builtin("isotropic");
+    glintscope::Scene scene;
+    glintscope::set_heightfield(scene.query, field);
+    scene.query.wavelengths_um = spectral ? glintscope::spectral_bin_centres_um(8) : std::vector<double>{0.4};
+    scene.camera.height = height;
+    scene.camera.width = height * 16 / 9;
+    return scene;
+}
+
+void BM_RenderPatch(benchmark::State& state, bool spectral) {
+    const glintscope::Scene scene = patch_scene(static_cast<int>(state.range(0)), spectral);
+    for (auto _ : state) benchmark::DoNotOptimize(glintscope::render(scene, glintscope::RenderSettings{4, 0}));
+    state.counters["shading_points"] = double(scene.camera.width) * scene.camera.height * 4;
+}
+BENCHMARK_CAPTURE(BM_RenderPatch, single_wavelength, false)->Arg(90)->Arg(720)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_RenderPatch, spectral_8, true)->Arg(90)->Arg(720)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+}  // namespace

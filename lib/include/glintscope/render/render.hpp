@@ -1,0 +1,109 @@
+#pragma once
+// A lit patch of the surface seen through a pinhole camera (Yan 2018 §6.2 "Patch", Fig. 12):
+// the heightfield tiled over the plane z = 0, point lights, direct lighting only. Each pixel
+// averages the radiance of spp shading points on a regular sub-pixel grid (Yan 2018 §5: 4 to
+// 25), each the method's BSDF for a footprint centred there (Yan 2018 §3.1: coherent within a
+// coherence area, incoherently averaged over the pixel):
+//   L(x, ω_o) = Σ_lights f_r(ω_i, ω_o; footprint at x) cosθ_i I / r²   [W m⁻² sr⁻¹]
+// f_r comes from the BSDF contract (bsdf.hpp, BsdfField::at): the renderer adds no physics.
+//
+// World frame: lengths in µm, the patch is the square |x|, |y| ≤ patch/2 of the plane z = 0 with
+// +z its mean normal, and its x, y axes are the heightfield's; the heightfield's origin lies at
+// the patch's corner (−patch/2, −patch/2) and repeats with its period (cols·dx, rows·dx). Camera
+// rays that miss the patch see black. Image rows run down the camera's up vector, row 0 at the
+// top; columns run along its right vector (up is the world +z projected, right = forward × up).
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "glintscope/core/geometry.hpp"
+#include "glintscope/lobe/query.hpp"
+#include "glintscope/optics/spectrum.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/surface/metadata.hpp"
+
+namespace glintscope {
+
+struct PinholeCamera {
+    Vec3 position_um{0.0, -70710.678118654752, 70710.678118654752};  // 10 cm away, 45° elevation
+    Vec3 look_at_um{0.0, 0.0, 0.0};
+    double vertical_fov_degrees = 30.0;
+    int width = 1280;
+    int height = 720;
+};
+
+struct PointLight {
+    Vec3 position_um{0.0, 70710.678118654752, 70710.678118654752};  // opposite the default camera
+    double intensity_w_per_sr = 1.0;  // radiant intensity at every wavelength of the query
+};
+
+struct Scene {
+    double patch_um = 50000.0;  // side of the square patch (Yan 2018: 5 cm)
+    PinholeCamera camera;
+    std::vector<PointLight> lights{PointLight{}};
+    // The lights' spectrum: the colour pipeline's illuminant (colour.hpp), by which a spectral
+    // render's per-wavelength radiance is weighted into XYZ. All lights share it.
+    Illuminant light_spectrum = Illuminant::d65;
+    std::string method = "gabor";
+    // Per shading point: the heightfield, wavelengths, diffraction model, material, coherence
+    // footprint (σ_c or a box; its centre is the shading point's) and method options.
+    LobeQuery query;
+};
+
+struct RenderSettings {
+    int samples_per_pixel = 4;  // spp: a square number, n × n points at the sub-pixel centres
+    int threads = 0;            // 0: the caller's thread_count()
+};
+
+// Radiance in W m⁻² sr⁻¹ per wavelength of the query.
+struct RenderImage {
+    int width = 0;
+    int height = 0;
+    std::vector<double> wavelengths_um;
+    std::vector<float> values;  // [layer][row][col]
+    Provenance metadata;        // the query (query_keys.hpp), "render.*" (scene, spp) and the method
+
+    std::size_t pixels() const { return std::size_t(width) * height; }
+    float at(std::size_t layer, int row, int col) const { return values[(layer * height + row) * std::size_t(width) + col]; }
+};
+
+// Checks everything a render needs before any work: a camera above the patch with a finite
+// look-at elsewhere, a field of view in (0°, 180°), a size up to 16384 per side and 2^26 pixels,
+// lights above the patch with finite nonnegative intensities, a positive patch, a square spp of
+// 1 to 256, a periodic heightfield (it is tiled) and a query the method answers per footprint.
+// Throws Error with one line naming the problem.
+void validate(const Scene& scene, const RenderSettings& settings);
+// The same without the query (heightfield, wavelengths, footprint, options): what a caller can
+// check before loading the heightfield.
+void validate_view(const Scene& scene, const RenderSettings& settings);
+
+// One shading point of a pixel: where its camera ray meets the patch, the footprint's centre on
+// the heightfield, and ω_o toward the camera. `hit` false: the ray misses the patch.
+struct ShadingPoint {
+    bool hit = false;
+    Vec3 position_um;
+    Point2 heightfield_um;
+    Vec3 omega_o;
+};
+std::vector<ShadingPoint> shading_points(const Scene& scene, const RenderSettings& settings, int row, int col);
+
+// Irradiance E = I cosθ_i / r² (W/m²) from a light at a shading point, and ω_i toward the light.
+struct LightArrival {
+    Vec3 omega_i;
+    double irradiance = 0.0;
+};
+LightArrival light_arrival(const PointLight& light, Vec3 position_um);
+
+// Scene text as the command line and manifests write it; lengths take unit suffixes (bare: µm).
+// Each throws Error naming the text and the expected form.
+Vec3 parse_position_um(const std::string& text);                          // "X,Y,Z"
+void parse_camera(const std::string& text, PinholeCamera& camera);          // "X,Y,Z:LX,LY,LZ"
+PointLight parse_light(const std::string& text);                            // "X,Y,Z:I" (I in W/sr)
+void parse_image_size(const std::string& text, PinholeCamera& camera);      // "WIDTHxHEIGHT"
+
+// The image: rows in parallel on settings.threads threads, each pixel summed in a fixed order, so
+// the result is bit-identical for any thread count. progress(done, total) is called with rows done,
+// one call at a time, from any of the threads.
+RenderImage render(const Scene& scene, const RenderSettings& settings, const RunProgress& progress = {});
+
+}  // namespace glintscope

@@ -1,0 +1,29 @@
+#pragma once
+// Writing renders, atomically, through the colour pipeline of spectral lobes (colour.hpp):
+// EXR (scene-linear float, zip): one wavelength is channel "Y", the radiance in W m⁻² sr⁻¹; a
+// spectrum is R, G, B in the output colour space (CIE → XYZ → OpenColorIO), weighted by the
+// lights' spectrum as the illuminant. PNG: display-referred, exposed by the settings (auto: the
+// 99.5th percentile of luminance maps to 1), the exposure recorded as "glintscope:output.exposure_ev".
+// Both carry the render's metadata as "glintscope:<key>" attributes.
+#include <string>
+
+#include "glintscope/output/colour.hpp"
+#include "glintscope/render/render.hpp"
+
+namespace glintscope {
+
+void write_render_exr(const RenderImage& image, const std::string& path, const ColourSettings& colour);
+
+// Returns the exposure used.
+DisplayExposure write_render_png(const RenderImage& image, const std::string& path, const ColourSettings& colour);
+
+// The EXR's "Y" channel or R, G, B channels back, [channel][row][col], for tests and comparisons.
+struct RenderExr {
+    int width = 0;
+    int height = 0;
+    std::vector<std::string> channels;
+    std::vector<float> values;
+};
+RenderExr load_render_exr(const std::string& path);
+
+}  // namespace glintscope

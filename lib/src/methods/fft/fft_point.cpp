@@ -1,0 +1,180 @@
+// Yan 2018 eq. 6 at single directions over the fft image's own footprint grid (fft_lobe.hpp).
+#include <cmath>
+#include <complex>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <utility>
+#include <vector>
+
+#include "fft_lobe.hpp"
+#include "glintscope/optics/material.hpp"
+
+// The SIMD helper takes and returns no vector types across calls; -Wpsabi's note does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace glintscope {
+namespace {
+
+// One incidence's grid for one wavelength: the samples, and at constant ξ3 = 2 (OHS, R-OHS)
+// R*(s) = w e^{−i2π ξ3 (H − H̄)/λ} itself (Yan 2018 eq. 1, 4), as real and imaginary parts.
+struct IncidenceGrid {
+    FootprintSamples samples;
+    std::vector<double> re;
+    std::vector<double> im;
+};
+
+// e^{−i2π f (j·step)} for j < count, as real and imaginary parts.
+void plane_wave(double frequency, double step_um, int count, std::vector<double>& re, std::vector<double>& im) {
+    re.resize(count);
+    im.resize(count);
+    for (int j = 0; j < count; ++j) {
+        const double angle = -2.0 * pi * frequency * (j * step_um);
+        re[j] = std::cos(angle);
+        im[j] = std::sin(angle);
+    }
+}
+
+using Double4 = double __attribute__((vector_size(32)));
+
+Double4 load4(const double* p) {
+    Double4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+
+// Σ_j (factor_j) r_j e_j of one grid row, r = R*, e the plane wave along x, factor a slope or 1
+// (null); four samples per SIMD step with a fixed order of additions, the rest one by one.
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+std::complex<double> row_sum(const double* r_re, const double* r_im, const double* e_re, const double* e_im,
+                             const double* factor, int n) {
+    Double4 re4 = {0.0, 0.0, 0.0, 0.0}, im4 = {0.0, 0.0, 0.0, 0.0};
+    int j = 0;
+    for (; j + 4 <= n; j += 4) {
+        const Double4 a = load4(r_re + j), b = load4(r_im + j), c = load4(e_re + j), d = load4(e_im + j);
+        const Double4 f = factor ? load4(factor + j) : Double4{1.0, 1.0, 1.0, 1.0};
+        re4 += f * (a * c - b * d);
+        im4 += f * (a * d + b * c);
+    }
+    double re = 0.0, im = 0.0;
+    for (; j < n; ++j) {
+        const double f = factor ? factor[j] : 1.0;
+        re += f * (r_re[j] * e_re[j] - r_im[j] * e_im[j]);
+        im += f * (r_re[j] * e_im[j] + r_im[j] * e_re[j]);
+    }
+    return {((re4[0] + re4[1]) + (re4[2] + re4[3])) + re, ((im4[0] + im4[1]) + (im4[2] + im4[3])) + im};
+}
+
+class FftPoint {
+public:
+    explicit FftPoint(const LobeQuery& query)
+        : query_(query), area_um2_(footprint_extent(query.footprint, fft_settings(query).window_sigmas).area_um2) {
+        for (double lambda : query_.wavelengths_um)
+            indices_.push_back(query_.material.name.empty() ? ComplexIndex{}
+                                                            : complex_refractive_index(query_.material.name, lambda));
+    }
+
+    std::vector<double> eval(Vec3 omega_i, Vec3 omega_o) const {
+        const Vec3 psi = omega_i + omega_o;
+        const double xi3 = phase_depends_on_outgoing(query_.model) ? psi.z : 2.0;  // Yan 2018 Fig. 6: ψ·n or 2
+        std::vector<double> f;
+        for (std::size_t layer = 0; layer < query_.wavelengths_um.size(); ++layer) {
+            const double lambda = query_.wavelengths_um[layer];
+            const std::shared_ptr<const IncidenceGrid> grid = grid_for(omega_i, layer);
+            const FootprintSamples& s = grid->samples;
+            const double cell = s.x.step_um * s.y.step_um;
+            const double fresnel = query_.material.name.empty() ? 1.0 : fresnel_conductor(indices_[layer], 0.5 * length(psi));
+            // Yan 2018 eq. 6: ξ1/A_c |R̃*(ψ̄/λ)|², R̃* the grid's sum times its cell area.
+            const double factor = xi1_geometric(query_.model, omega_i, omega_o) * fresnel / (lambda * lambda);
+            f.push_back(factor * std::norm(transform(*grid, psi, xi3, lambda)) * cell * cell / area_um2_);
+        }
+        return f;
+    }
+
+private:
+    // Σ_s R*(s) e^{−i2π ψ̄·s/λ} over the grid (s from its first sample); Kirchhoff's ξ2 as in the
+    // image: T0 − (ψ̄_x T_x + ψ̄_y T_y)/(ψ·n), T_x and T_y the sums of H_x R* and H_y R*.
+    std::complex<double> transform(const IncidenceGrid& grid, Vec3 psi, double xi3, double lambda) const {
+        const FootprintSamples& s = grid.samples;
+        const int nx = s.x.count, ny = s.y.count;
+        const bool kirchhoff = query_.model == DiffractionModel::kirchhoff;
+        std::vector<double> wave_re, wave_im, row_re, row_im;
+        plane_wave(psi.x / lambda, s.x.step_um, nx, wave_re, wave_im);
+        if (grid.re.empty()) {
+            row_re.resize(nx);
+            row_im.resize(nx);
+        }
+        const double phase_per_height = -2.0 * pi * xi3 / lambda;
+        std::complex<double> sums[3];
+        for (int k = 0; k < ny; ++k) {
+            const std::size_t first = static_cast<std::size_t>(k) * nx;
+            const double* r_re = grid.re.empty() ? row_re.data() : &grid.re[first];
+            const double* r_im = grid.re.empty() ? row_im.data() : &grid.im[first];
+            if (grid.re.empty())
+                for (int j = 0; j < nx; ++j) {
+                    const double angle = phase_per_height * s.height[first + j];
+                    row_re[j] = s.weight[first + j] * std::cos(angle);
+                    row_im[j] = s.weight[first + j] * std::sin(angle);
+                }
+            const std::complex<double> row_wave = std::polar(1.0, -2.0 * pi * psi.y / lambda * (k * s.y.step_um));
+            sums[0] += row_wave * row_sum(r_re, r_im, wave_re.data(), wave_im.data(), nullptr, nx);
+            if (kirchhoff) {
+                sums[1] += row_wave * row_sum(r_re, r_im, wave_re.data(), wave_im.data(), &s.slope_x[first], nx);
+                sums[2] += row_wave * row_sum(r_re, r_im, wave_re.data(), wave_im.data(), &s.slope_y[first], nx);
+            }
+        }
+        return kirchhoff ? sums[0] - (psi.x * sums[1] + psi.y * sums[2]) / psi.z : sums[0];
+    }
+
+    // The grid of (ω_i, wavelength), made on first use outside the lock (two threads may both
+    // make it, identically); the most recent are kept.
+    std::shared_ptr<const IncidenceGrid> grid_for(Vec3 omega_i, std::size_t layer) const {
+        {
+            const std::lock_guard lock(mutex_);
+            for (const Entry& e : recent_)
+                if (e.layer == layer && e.omega_i.x == omega_i.x && e.omega_i.y == omega_i.y && e.omega_i.z == omega_i.z)
+                    return e.grid;
+        }
+        const double lambda = query_.wavelengths_um[layer];
+        auto grid = std::make_shared<IncidenceGrid>();
+        grid->samples = layer_samples(query_, {omega_i, 1.0}, lambda);
+        if (!phase_depends_on_outgoing(query_.model)) {
+            const FootprintSamples& s = grid->samples;
+            const double phase_per_height = -2.0 * pi * 2.0 / lambda;
+            grid->re.resize(s.weight.size());
+            grid->im.resize(s.weight.size());
+            for (std::size_t i = 0; i < s.weight.size(); ++i) {
+                grid->re[i] = s.weight[i] * std::cos(phase_per_height * s.height[i]);
+                grid->im[i] = s.weight[i] * std::sin(phase_per_height * s.height[i]);
+            }
+        }
+        const std::lock_guard lock(mutex_);
+        recent_.push_back({omega_i, layer, grid});
+        if (recent_.size() > kKeptGrids * query_.wavelengths_um.size()) recent_.erase(recent_.begin());
+        return grid;
+    }
+
+    static constexpr std::size_t kKeptGrids = 16;  // incidences
+    struct Entry {
+        Vec3 omega_i;
+        std::size_t layer;
+        std::shared_ptr<const IncidenceGrid> grid;
+    };
+
+    LobeQuery query_;
+    double area_um2_;
+    std::vector<ComplexIndex> indices_;
+    mutable std::mutex mutex_;
+    mutable std::vector<Entry> recent_;
+};
+
+}  // namespace
+
+PointAnswers fft_point(const LobeQuery& query) {
+    auto point = std::make_shared<const FftPoint>(query);
+    PointAnswers answers;
+    answers.eval = [point](Vec3 omega_i, Vec3 omega_o) { return point->eval(omega_i, omega_o); };
+    return answers;
+}
+
+}  // namespace glintscope

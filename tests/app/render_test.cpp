@@ -1,0 +1,83 @@
+// The render command as a user drives it: its EXR is the library's render of the scene its flags
+// describe, a spectral render goes through the colour pipeline with the lights' spectrum and a
+// recorded exposure, and bad scenes fail in one line before any work, writing nothing.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <string>
+
+#include "cli_runner.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/render/render.hpp"
+#include "glintscope/render/render_output.hpp"
+
+namespace glintscope {
+namespace {
+
+using testing::run_cli;
+using testing::TemporaryDirectory;
+
+const std::vector<std::string> kScene = {"builtin:isotropic", "--size", "20x12", "--fov", "4", "--spp", "4",
+                                         "--camera", "0,-6cm,6cm:1mm,0,0", "--light", "0,6cm,7cm:2",
+                                         "--light", "5mm,5cm,6cm:0.5", "--patch", "4cm", "--sigma-c", "8um"};
+
+std::vector<std::string> with(std::vector<std::string> arguments, const std::vector<std::string>& more) {
+    arguments.insert(arguments.end(), more.begin(), more.end());
+    return arguments;
+}
+
+TEST(RenderCommand, TheExrIsTheLibrarysRenderOfTheSceneTheFlagsDescribe) {
+    TemporaryDirectory directory;
+    const std::string exr = directory.file("patch.exr");
+    const auto result = run_cli(with({"render"}, with(kScene, {"--lambda", "0.4um", "-o", exr})));
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    Scene scene;
+    set_heightfield(scene.query, generate_builtin("isotropic"));
+    scene.query.wavelengths_um = {0.4};
+    scene.query.footprint.sigma_um = 8.0;
+    scene.patch_um = 40000.0;
+    scene.camera = {{0.0, -60000.0, 60000.0}, {1000.0, 0.0, 0.0}, 4.0, 20, 12};
+    scene.lights = {PointLight{{0.0, 60000.0, 70000.0}, 2.0}, PointLight{{5000.0, 50000.0, 60000.0}, 0.5}};
+    const RenderImage expected = render(scene, RenderSettings{4, 0});
+    const RenderExr written = load_render_exr(exr);
+    ASSERT_EQ(written.channels, std::vector<std::string>{"Y"});
+    EXPECT_EQ(written.values, expected.values);
+    EXPECT_GT(*std::max_element(expected.values.begin(), expected.values.end()), 0.0f);
+}
+
+// The lights' spectrum weighs the spectral radiance into colour: E (flat) and D65 differ.
+TEST(RenderCommand, SpectralRendersAreColourWithTheLightsSpectrumAndARecordedExposure) {
+    TemporaryDirectory directory;
+    std::vector<std::vector<float>> rgb;
+    for (const std::string spectrum : {"d65", "e"}) {
+        const std::string exr = directory.file(spectrum + ".exr"), png = directory.file(spectrum + ".png");
+        const auto result = run_cli(with({"render"}, with(kScene, {"--spectral", "3", "--light-spectrum", spectrum,
+                                                                   "--exposure", "2.5", "-o", exr, "--png", png})));
+        ASSERT_EQ(result.exit_code, 0) << result.output;
+        const RenderExr written = load_render_exr(exr);
+        ASSERT_EQ(written.channels, (std::vector<std::string>{"R", "G", "B"}));
+        rgb.push_back(written.values);
+        auto input = OIIO::ImageInput::open(png);
+        ASSERT_TRUE(input);
+        EXPECT_EQ(input->spec().get_string_attribute("glintscope:output.exposure_ev"), "2.5");
+        EXPECT_EQ(input->spec().width, 20);
+    }
+    EXPECT_NE(rgb[0], rgb[1]);
+}
+
+TEST(RenderCommand, BadScenesFailInOneLineAndWriteNothing) {
+    TemporaryDirectory directory;
+    const std::string exr = directory.file("bad.exr");
+    for (const std::vector<std::string>& bad :
+         {std::vector<std::string>{"--camera", "0,-6cm,-1cm:0,0,0"}, {"--light", "0,6cm,-7cm:2"}, {"--fov", "0"},
+          {"--size", "1000000x1000000"}, {"--spp", "0"}, {"--light", "0,nan,7cm:2"}, {"--method", "stam"}}) {
+        const auto result = run_cli(with({"render", "builtin:isotropic", "-o", exr}, bad));
+        EXPECT_EQ(result.exit_code, 1) << bad[0] << " " << bad[1] << ": " << result.output;
+        EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+        EXPECT_EQ(testing::count_entries(directory.path()), 0) << result.output;
+    }
+}
+
+}  // namespace
+}  // namespace glintscope

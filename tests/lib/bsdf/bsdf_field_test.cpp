@@ -1,0 +1,130 @@
+// Per-footprint BSDFs (BsdfField, for renderers): gabor's point query for any footprint equals
+// its closed-form image at pixel centres, a field's BSDF of a footprint is exactly make_bsdf's,
+// the answers do not depend on the calling threads, and methods without a point field are refused.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "glintscope/bsdf/bsdf.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
+#include "method_cases.hpp"
+
+namespace glintscope {
+namespace {
+
+constexpr int kResolution = 24;
+
+LobeQuery gabor_query() {
+    LobeQuery query = testing::isotropic_builtin_query(Quantity::brdf);  // 0.45 and 0.6 µm
+    query.resolution = kResolution;
+    query.supersample = 1;
+    return query;
+}
+
+// A few footprints away from the query's, one of them a box.
+std::vector<Footprint> other_footprints(const LobeQuery& query) {
+    std::vector<Footprint> footprints;
+    for (int k = 0; k < 3; ++k) {
+        Footprint f = query.footprint;
+        f.centre_um = {f.centre_um.x + 37.5 * k - 20.0, f.centre_um.y - 11.0 * k};
+        f.sigma_um = 6.0 + 4.0 * k;
+        footprints.push_back(f);
+    }
+    Footprint box = query.footprint;
+    set_box(box, "30x20um");
+    footprints.push_back(box);
+    return footprints;
+}
+
+Vec3 pixel_direction(int row, int col) {
+    const DiskPoint p = disk_pixel_point(row, col, kResolution);
+    return direction_from_disk(p.x, p.y);
+}
+
+// The products evaluation is the closed-form sum of the kernels' transforms at every sample, as
+// the point query (second order: in double precision, stored as float).
+TEST(BsdfField, GaborEvalEqualsItsClosedFormImageAtPixelCentres) {
+    LobeQuery query = gabor_query();
+    const Bsdf bsdf = make_bsdf("gabor", query);
+    ASSERT_TRUE(bsdf.evaluates_directly());
+    query.method_options["evaluation"] = "products";
+    for (double degrees : {0.0, 35.0}) {
+        query.omega_i = direction_from_spherical(degrees * pi / 180.0, 0.7);
+        const LobeImage image = compute_lobe("gabor", query);
+        for (int row = 0; row < kResolution; ++row)
+            for (int col = 0; col < kResolution; ++col) {
+                if (!inside_unit_disk(disk_pixel_point(row, col, kResolution))) continue;
+                const std::vector<double> f = bsdf.eval(query.omega_i, pixel_direction(row, col));
+                for (std::size_t layer = 0; layer < image.layers(); ++layer)
+                    ASSERT_NEAR(f[layer], image.at(layer, row, col), 1e-4 * image.at(layer, row, col) + 1e-12)
+                        << degrees << " degrees, pixel " << row << "," << col << ", layer " << layer;
+            }
+    }
+}
+
+TEST(BsdfField, AtAFootprintIsMakeBsdfOfThatFootprint) {
+    const LobeQuery query = gabor_query();
+    const BsdfField field = make_bsdf_field("gabor", query);
+    EXPECT_EQ(field.wavelengths_um(), query.wavelengths_um);
+    const Vec3 omega_i = direction_from_spherical(0.5, 2.0);
+    int nonzero = 0;
+    for (const Footprint& footprint : other_footprints(query)) {
+        LobeQuery at_footprint = query;
+        at_footprint.footprint = footprint;
+        const Bsdf own = make_bsdf("gabor", at_footprint);
+        const Bsdf from_field = field.at(footprint);
+        for (int row = 0; row < kResolution; row += 3)
+            for (int col = 0; col < kResolution; col += 3) {
+                if (!inside_unit_disk(disk_pixel_point(row, col, kResolution))) continue;
+                const Vec3 omega_o = pixel_direction(row, col);
+                const std::vector<double> expected = own.eval(omega_i, omega_o);
+                EXPECT_EQ(from_field.eval(omega_i, omega_o), expected);
+                nonzero += expected[0] > 0.0;
+            }
+    }
+    EXPECT_GT(nonzero, 20);  // the comparisons are of lobes, not of zeros
+    // Footprints differ: the same direction gets another value elsewhere on the surface.
+    const Vec3 omega_o = direction_from_spherical(0.45, 2.0 + pi);
+    EXPECT_NE(field.at(other_footprints(query)[0]).eval(omega_i, omega_o),
+              field.at(other_footprints(query)[1]).eval(omega_i, omega_o));
+}
+
+TEST(BsdfField, AnswersDoNotDependOnTheCallingThreads) {
+    const LobeQuery query = gabor_query();
+    const BsdfField field = make_bsdf_field("gabor", query);
+    constexpr int kQueries = 400;
+    auto answers = [&](int threads) {
+        std::vector<std::vector<double>> out(kQueries);
+        auto work = [&](int first) {
+            for (int k = first; k < kQueries; k += threads) {
+                Footprint footprint = query.footprint;
+                footprint.centre_um = {footprint.centre_um.x + 3.7 * k, footprint.centre_um.y - 1.3 * k};
+                out[k] = field.at(footprint).eval(direction_from_spherical(0.4, 0.1), direction_from_spherical(0.4, 0.1 + pi + 0.002 * k));
+            }
+        };
+        std::vector<std::thread> pool;
+        for (int t = 0; t < threads; ++t) pool.emplace_back(work, t);
+        for (std::thread& thread : pool) thread.join();
+        return out;
+    };
+    EXPECT_EQ(answers(1), answers(4));
+}
+
+TEST(BsdfField, MethodsWithoutAPointFieldAndBadFootprintsAreRefused) {
+    const LobeQuery query = gabor_query();
+    try {
+        make_bsdf_field("stam", query);
+        FAIL() << "stam has no point field";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("gabor"), std::string::npos) << e.what();
+    }
+    Footprint bad = query.footprint;
+    bad.sigma_um = -1.0;
+    EXPECT_THROW(make_bsdf_field("gabor", query).at(bad), Error);
+}
+
+}  // namespace
+}  // namespace glintscope

@@ -1,0 +1,275 @@
+// Rendering a lit patch (render.hpp): a flat mirror lights only the pixels where the light's mirror
+// image lands, with the coherence window's transform times the irradiance; a tilted plane moves
+// the highlight to its closed-form position; a pixel is the mean over its shading points of the
+// BSDF contract's f_r times the irradiance; any thread count gives the same image; bad scenes
+// are refused in one line before any work.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "glintscope/bsdf/bsdf.hpp"
+#include "glintscope/core/error.hpp"
+#include "glintscope/generate/generate.hpp"
+#include "glintscope/optics/diffraction_model.hpp"
+#include "glintscope/render/render.hpp"
+
+namespace glintscope {
+namespace {
+
+constexpr double kLambda = 0.5;
+constexpr double kSigma = 10.0;
+
+// A periodic field of `cols` × `rows` texels whose heights are slope · x (a plane when the
+// patch stays within one period).
+Heightfield plane_field(int cols, int rows, double texel_um, double slope) {
+    Heightfield field;
+    field.rows = rows;
+    field.cols = cols;
+    field.texel_um = texel_um;
+    field.heights_um.resize(std::size_t(rows) * cols);
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < cols; ++c) field.at(r, c) = float(slope * (c + 0.5) * texel_um);
+    return field;
+}
+
+// The camera and the light in the xz plane, the camera 45° up and 4.2 cm away.
+Scene mirror_scene(Heightfield field, DiffractionModel model, double patch_um) {
+    Scene scene;
+    set_heightfield(scene.query, std::move(field));
+    scene.query.wavelengths_um = {kLambda};
+    scene.query.model = model;
+    scene.query.footprint.sigma_um = kSigma;
+    // The whole window's mass (the default 3.25 σ_c drops 0.5% of it, 1% of the intensity).
+    scene.query.method_options["footprint_truncation"] = "5";
+    scene.patch_um = patch_um;
+    scene.camera.position_um = {-30000.0, 0.0, 30000.0};
+    scene.camera.vertical_fov_degrees = 6.0;
+    scene.camera.width = 64;
+    scene.camera.height = 36;
+    scene.lights = {PointLight{{30000.0, 0.0, 40000.0}, 2.0}};
+    return scene;
+}
+
+// Where a pinhole camera (render.hpp's conventions) sees the point p, in pixel units (col, row).
+Point2 project(const PinholeCamera& camera, Vec3 p) {
+    const Vec3 forward = normalize(camera.look_at_um - camera.position_um);
+    const Vec3 right = normalize(cross(forward, {0.0, 0.0, 1.0}));
+    const Vec3 up = cross(right, forward);
+    const Vec3 d = p - camera.position_um;
+    const double tan_half = std::tan(0.5 * camera.vertical_fov_degrees * pi / 180.0);
+    const double sx = dot(d, right) / dot(d, forward), sy = dot(d, up) / dot(d, forward);
+    return {(sx / (tan_half * camera.width / camera.height) + 1.0) * 0.5 * camera.width,
+            (1.0 - sy / tan_half) * 0.5 * camera.height};
+}
+
+struct Peak {
+    int row = 0, col = 0;
+    float value = 0.0f;
+};
+Peak brightest(const RenderImage& image) {
+    Peak peak;
+    for (int row = 0; row < image.height; ++row)
+        for (int col = 0; col < image.width; ++col)
+            if (image.at(0, row, col) > peak.value) peak = {row, col, image.at(0, row, col)};
+    return peak;
+}
+
+// The flat patch's f_r for a Gaussian window (Yan 2018 eq. 3 with H = 0): ξ1/(λ² A_c) |W(ψ̄/λ)|²,
+// W(v) = 2πσ² e^{−2π²σ²|v|²} the window's transform, A_c = πσ². Gabor kernels of width σ_k = l/2
+// (Yan 2018 eq. 13; l = 1 µm here) represent the window blurred by their Gaussian, whose
+// transform multiplies W by e^{−2π²σ_k²|v|²} (1.5% at the spot's edge, so it is part of the test).
+double flat_mirror_f_r(DiffractionModel model, Vec3 omega_i, Vec3 omega_o) {
+    constexpr double kKernelSigma = 0.5;
+    const Vec3 psi = omega_i + omega_o;
+    const double v2 = (psi.x * psi.x + psi.y * psi.y) / (kLambda * kLambda);
+    const double transform = 2.0 * pi * kSigma * kSigma *
+                             std::exp(-2.0 * pi * pi * (kSigma * kSigma + kKernelSigma * kKernelSigma) * v2);
+    return xi1_geometric(model, omega_i, omega_o) / (kLambda * kLambda) * transform * transform / (pi * kSigma * kSigma);
+}
+
+TEST(Render, FlatMirrorLightsOnlyTheMirrorPointWithTheWindowTransformTimesTheIrradiance) {
+    Scene scene = mirror_scene(plane_field(64, 64, 1.0, 0.0), DiffractionModel::rohs, 20000.0);
+    const Vec3 camera = scene.camera.position_um, light = scene.lights[0].position_um;
+    // The light's mirror image (x, y, −z) seen from the camera crosses z = 0 at the mirror point.
+    const double t = camera.z / (camera.z + light.z);
+    const Vec3 mirror_point = camera + t * (Vec3{light.x, light.y, -light.z} - camera);
+    scene.camera.look_at_um = mirror_point + Vec3{600.0, 400.0, 0.0};  // off the image centre
+    const RenderSettings settings{1, 0};
+    const RenderImage image = render(scene, settings);
+    const Peak peak = brightest(image);
+    const Point2 expected = project(scene.camera, mirror_point);
+    EXPECT_LE(std::fabs(peak.col + 0.5 - expected.x), 1.0) << "expected column " << expected.x;
+    EXPECT_LE(std::fabs(peak.row + 0.5 - expected.y), 1.0) << "expected row " << expected.y;
+    int lit = 0;
+    for (int row = 0; row < image.height; ++row)
+        for (int col = 0; col < image.width; ++col) {
+            const float value = image.at(0, row, col);
+            if (std::hypot(col + 0.5 - expected.x, row + 0.5 - expected.y) > 14.0) {
+                EXPECT_LT(value, 1e-6 * peak.value) << "lit far from the mirror point at " << row << "," << col;
+                continue;
+            }
+            if (value < 1e-3 * peak.value) continue;
+            // The pixel centre's ray, independently of the renderer: E = I cosθ_i / r².
+            const ShadingPoint point = shading_points(scene, settings, row, col).at(0);
+            ASSERT_TRUE(point.hit);
+            const Vec3 to_light = light - point.position_um;
+            const double r = length(to_light);
+            const Vec3 omega_i = (1.0 / r) * to_light;
+            const Vec3 omega_o = normalize(camera - point.position_um);
+            EXPECT_NEAR(dot(omega_o, point.omega_o), 1.0, 1e-12);
+            const double irradiance = scene.lights[0].intensity_w_per_sr * omega_i.z / (r * r * 1e-12);
+            const double expected_value = flat_mirror_f_r(scene.query.model, omega_i, omega_o) * irradiance;
+            EXPECT_NEAR(value, expected_value, 0.01 * expected_value) << row << "," << col;
+            ++lit;
+        }
+    EXPECT_GT(lit, 20);  // the spot spans many pixels, each checked
+}
+
+// GHS's phase ξ3 = ψ·n puts the lobe of a tilted plane H = a·x where ψ̄ + ψ_z H' = 0: the half
+// vector is the plane's normal (−a, 0, 1), exact mirror reflection.
+TEST(Render, TiltedPlaneMovesTheHighlightToItsMirrorPoint) {
+    constexpr double slope = 0.03;
+    // One period (16.4 mm) covers the 16 mm patch: no seam inside it.
+    Scene scene = mirror_scene(plane_field(4096, 4, 4.0, slope), DiffractionModel::ghs, 16000.0);
+    const Vec3 camera = scene.camera.position_um, light = scene.lights[0].position_um;
+    const auto tilt_at = [&](double x) {  // ψ̄_x/ψ_z + a, decreasing in x
+        const Vec3 p{x, 0.0, 0.0};
+        const Vec3 psi = normalize(light - p) + normalize(camera - p);
+        return psi.x / psi.z + slope;
+    };
+    double lo = -8000.0, hi = 8000.0;
+    for (int k = 0; k < 100; ++k) (tilt_at(0.5 * (lo + hi)) > 0.0 ? lo : hi) = 0.5 * (lo + hi);
+    const Vec3 highlight{0.5 * (lo + hi), 0.0, 0.0};
+    const Vec3 flat_point = camera + (camera.z / (camera.z + light.z)) * (Vec3{light.x, light.y, -light.z} - camera);
+    ASSERT_GT(std::fabs(highlight.x - flat_point.x), 900.0);  // the tilt moves it by many pixels
+    scene.camera.look_at_um = 0.5 * (highlight + flat_point) + Vec3{0.0, 300.0, 0.0};
+    const RenderImage image = render(scene, RenderSettings{1, 0});
+    const Peak peak = brightest(image);
+    const Point2 expected = project(scene.camera, highlight);
+    const Point2 flat = project(scene.camera, flat_point);
+    ASSERT_GT(std::hypot(expected.x - flat.x, expected.y - flat.y), 5.0);
+    EXPECT_LE(std::fabs(peak.col + 0.5 - expected.x), 1.0) << "expected column " << expected.x;
+    EXPECT_LE(std::fabs(peak.row + 0.5 - expected.y), 1.0) << "expected row " << expected.y;
+}
+
+Scene isotropic_scene() {
+    static const Heightfield field = generate_builtin("isotropic");
+    Scene scene;
+    set_heightfield(scene.query, field);
+    scene.query.wavelengths_um = {0.45, 0.6};
+    scene.camera.width = 24;
+    scene.camera.height = 14;
+    scene.camera.vertical_fov_degrees = 3.0;  // a 4 mm view of the patch's centre, where the highlight is
+    scene.lights = {PointLight{{0.0, 70710.0, 70710.0}, 1.0}, PointLight{{3000.0, 60000.0, 80000.0}, 0.5}};
+    return scene;
+}
+
+TEST(Render, APixelIsTheMeanOfTheBsdfContractOverItsShadingPoints) {
+    const Scene scene = isotropic_scene();
+    const RenderSettings settings{4, 0};
+    const RenderImage image = render(scene, settings);
+    int checked = 0;
+    for (const auto& [row, col] : {std::pair{7, 12}, {3, 5}, {10, 20}, {0, 0}, {13, 23}}) {
+        std::vector<double> expected(image.wavelengths_um.size(), 0.0);
+        for (const ShadingPoint& point : shading_points(scene, settings, row, col)) {
+            ASSERT_TRUE(point.hit);
+            LobeQuery query = scene.query;
+            query.footprint.centre_um = point.heightfield_um;
+            const Bsdf bsdf = make_bsdf("gabor", query);
+            for (const PointLight& light : scene.lights) {
+                const LightArrival arrival = light_arrival(light, point.position_um);
+                const std::vector<double> f = bsdf.eval(arrival.omega_i, point.omega_o);
+                for (std::size_t k = 0; k < f.size(); ++k) expected[k] += f[k] * arrival.irradiance / 4.0;
+            }
+        }
+        for (std::size_t k = 0; k < expected.size(); ++k) {
+            EXPECT_NEAR(image.at(k, row, col), expected[k], 1e-6 * expected[k]) << row << "," << col << " layer " << k;
+            checked += expected[k] > 0.0;
+        }
+    }
+    EXPECT_GE(checked, 6);  // glints, not black pixels
+}
+
+TEST(Render, OneAndTwoThreadsGiveTheSameImage) {
+    const Scene scene = isotropic_scene();
+    const RenderImage one = render(scene, RenderSettings{4, 1});
+    const RenderImage two = render(scene, RenderSettings{4, 2});
+    EXPECT_EQ(one.values, two.values);
+    EXPECT_GT(*std::max_element(one.values.begin(), one.values.end()), 0.0f);
+}
+
+void expect_refused(const Scene& scene, const RenderSettings& settings, const std::string& words) {
+    try {
+        validate(scene, settings);
+        ADD_FAILURE() << "accepted; expected a message with '" << words << "'";
+    } catch (const Error& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find(words), std::string::npos) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+}
+
+TEST(Render, BadScenesAreRefusedInOneLine) {
+    const Scene good = mirror_scene(plane_field(64, 64, 1.0, 0.0), DiffractionModel::rohs, 20000.0);
+    const RenderSettings settings{4, 0};
+    EXPECT_NO_THROW(validate(good, settings));
+    Scene s = good;
+    s.camera.position_um.z = -10.0;
+    expect_refused(s, settings, "camera must be above");
+    s = good;
+    s.lights[0].position_um.z = 0.0;
+    expect_refused(s, settings, "below the patch's horizon");
+    s = good;
+    s.camera.vertical_fov_degrees = 0.0;
+    expect_refused(s, settings, "field of view");
+    s = good;
+    s.lights[0].position_um.x = std::nan("");
+    expect_refused(s, settings, "finite");
+    s = good;
+    s.lights[0].intensity_w_per_sr = -1.0;
+    expect_refused(s, settings, "intensity");
+    s = good;
+    s.camera.width = s.camera.height = 1000000;
+    expect_refused(s, settings, "image size");
+    s = good;
+    s.camera.look_at_um = s.camera.position_um;
+    expect_refused(s, settings, "looks at its own position");
+    s = good;
+    s.lights.clear();
+    expect_refused(s, settings, "at least one light");
+    expect_refused(good, RenderSettings{0, 0}, "spp");
+    expect_refused(good, RenderSettings{3, 0}, "square");
+    s = good;
+    s.method = "stam";
+    expect_refused(s, settings, "per shading point");
+    s = good;
+    Heightfield scan = plane_field(64, 64, 1.0, 0.0);
+    scan.periodic = false;
+    set_heightfield(s.query, scan);
+    expect_refused(s, settings, "not periodic");
+    s = good;
+    s.query.wavelengths_um = {-0.5};
+    EXPECT_THROW(validate(s, settings), Error);
+}
+
+TEST(Render, SceneTextIsParsedWithUnits) {
+    PinholeCamera camera;
+    parse_camera("0,-7cm,7cm:1mm,0,0", camera);
+    EXPECT_EQ(camera.position_um.y, -70000.0);
+    EXPECT_EQ(camera.look_at_um.x, 1000.0);
+    parse_image_size("64x36", camera);
+    EXPECT_EQ(camera.width, 64);
+    EXPECT_EQ(camera.height, 36);
+    const PointLight light = parse_light("0,5cm,5cm:2.5");
+    EXPECT_EQ(light.position_um.z, 50000.0);
+    EXPECT_EQ(light.intensity_w_per_sr, 2.5);
+    EXPECT_THROW(parse_light("0,5cm,5cm"), Error);
+    EXPECT_THROW(parse_image_size("64x", camera), Error);
+    EXPECT_THROW(parse_image_size("6.5x3", camera), Error);
+    EXPECT_THROW(parse_camera("0,0:1,1,1", camera), Error);
+}
+
+}  // namespace
+}  // namespace glintscope
