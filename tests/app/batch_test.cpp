@@ -60,7 +60,7 @@ TEST(BatchCommand, AMalformedManifestComputesNothing) {
                                                  "[[column]]\nlabel = \"b\"\nsigma_c = \"ten\"\n";
     const auto result = testing::run_cli({"batch", directory.file("bad.toml")});
     EXPECT_NE(result.exit_code, 0);
-    EXPECT_NE(result.output.find("bad.toml:5:"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("bad.toml:7:"), std::string::npos) << result.output;  // where sigma_c is written
     EXPECT_NE(result.output.find("sigma_c"), std::string::npos) << result.output;
     EXPECT_EQ(testing::count_entries(directory.path()), 1);  // nothing but the manifest
 }
