@@ -7,11 +7,14 @@
 #include "query_flags.hpp"
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 
 #include "glintscope/bsdf/bsdf.hpp"
 #include "glintscope/core/atomic_output.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "glintscope/core/units.hpp"
 #include "glintscope/lobe/query_keys.hpp"
 #include "glintscope/render/render_output.hpp"
 
@@ -31,6 +34,8 @@ struct RenderCommand {
     std::string exposure = "auto";
     std::string ocio_config;
     std::string colour_space = "lin_rec709";
+    int sweep_frames = 0;  // 0: one image
+    double sweep_span_um = 0.0;  // 0: the patch side
     Scene scene;
     RenderSettings settings;
 };
@@ -74,13 +79,78 @@ ColourSettings colour_of(const RenderCommand& command, Illuminant light_spectrum
     return colour;
 }
 
+// PATH without its extension, then -NN and the extension: frame k of a sweep of `frames`.
+std::string frame_path(const std::string& path, int k, int frames) {
+    const std::filesystem::path p(path);
+    const int digits = static_cast<int>(std::to_string(frames - 1).size());
+    std::string number = std::to_string(k);
+    number.insert(0, std::size_t(std::max(0, digits - int(number.size()))), '0');
+    return (p.parent_path() / (p.stem().string() + "-" + number + p.extension().string())).string();
+}
+
+std::string with_suffix(const std::string& path, const std::string& suffix) {
+    const std::filesystem::path p(path);
+    return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+
+// The frames as an MP4 through ffmpeg when it is installed (a note otherwise), written beside
+// the PNGs under a temporary name and renamed, as every output is.
+void write_sweep_video(const std::string& png, int frames) {
+    if (std::system("command -v ffmpeg > /dev/null 2>&1") != 0) {
+        std::printf("no MP4: ffmpeg is not installed (apt-get install ffmpeg); the frames and the contact sheet are written\n");
+        return;
+    }
+    const std::string video = with_suffix(png, ".mp4"), partial = with_suffix(png, ".partial.mp4");
+    const std::filesystem::path p(png);
+    const std::string pattern = (p.parent_path() / (p.stem().string() + "-%0" +
+                                                    std::to_string(std::to_string(frames - 1).size()) + "d.png")).string();
+    const std::string call = "ffmpeg -y -loglevel error -framerate 8 -i '" + pattern +
+                             "' -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -pix_fmt yuv420p '" + partial + "'";
+    if (std::system(call.c_str()) != 0) {
+        std::filesystem::remove(partial);
+        throw Error("ffmpeg could not write '" + video + "' from the frames");
+    }
+    std::filesystem::rename(partial, video);
+    std::printf("%s: %d frames at 8 per second\n", video.c_str(), frames);
+}
+
+// --light-sweep N: N renders with the lights moved left to right, one EXR and PNG per frame, one
+// exposure for all, a contact sheet and (with ffmpeg) an MP4.
+void run_sweep(const RenderCommand& command, const Scene& scene, const ColourSettings& colour) {
+    const double span = command.sweep_span_um > 0.0 ? command.sweep_span_um : scene.patch_um;
+    std::vector<RenderImage> frames;
+    {
+        ProgressBar progress("rows of all frames");
+        frames = render_light_sweep(scene, command.sweep_frames, span, command.settings,
+                                    [&](std::size_t done, std::size_t total) { progress.update(done, total, scene.method); });
+    }
+    for (RenderImage& frame : frames) frame.metadata["command_line"] = invocation();
+    const int n = static_cast<int>(frames.size());
+    std::vector<std::string> pngs;
+    for (int k = 0; k < n; ++k) {
+        write_render_exr(frames[k], frame_path(command.output, k, n), colour);
+        pngs.push_back(frame_path(command.png, k, n));
+    }
+    const std::string sheet = with_suffix(command.png, "-sheet.png");
+    const DisplayExposure exposure = write_sweep_pngs(frames, pngs, sheet, colour);
+    std::printf("%s .. %s: %d frames, lights swept over %s, exposure %.4g EV (%s) for all\n", pngs.front().c_str(),
+                pngs.back().c_str(), n, format_length(span).c_str(), exposure.ev, exposure.rule.c_str());
+    std::printf("%s: contact sheet\n", sheet.c_str());
+    write_sweep_video(command.png, n);
+}
+
 void run(const RenderCommand& command) {
     check_output_path(command.output, {"exr"}, "-o");
     if (!command.png.empty()) check_output_path(command.png, {"png"}, "--png");
     Scene scene = view_of(command);
+    if (command.sweep_frames > 0) {  // its frames and outputs checked before the heightfield is read
+        if (command.png.empty()) throw Error("--light-sweep needs --png: the frames and their contact sheet are PNGs");
+        light_sweep(scene, command.sweep_frames, command.sweep_span_um > 0.0 ? command.sweep_span_um : scene.patch_um);
+    }
     const ColourSettings colour = colour_of(command, scene.light_spectrum);
     scene.query = query_of(command);
     validate(scene, command.settings);
+    if (command.sweep_frames > 0) return run_sweep(command, scene, colour);
     RenderImage image;
     {
         ProgressBar progress("rows");
@@ -127,6 +197,13 @@ void add_render_command(CLI::App& app) {
     sub->add_option("--spp", command->settings.samples_per_pixel,
                     "Shading points per pixel, a square number (n x n on a regular sub-pixel grid)")
         ->capture_default_str();
+    sub->add_option("--light-sweep", command->sweep_frames,
+                    "Render N frames (2-256) with the lights moving left to right (Yan 2018's video): OUT-K.exr and "
+                    "PNG-K.png per frame, one exposure for all, PNG-sheet.png, and PNG.mp4 when ffmpeg is installed")
+        ->type_name("N")
+        ->check(CLI::Range(2, 256));
+    add_length_option(*sub, "--sweep-span", command->sweep_span_um,
+                      "How far the lights move during --light-sweep, along the camera's right (default: the patch side)");
     add_query_flags(*sub, command->given, Quantity::brdf,
                     {"quantity", "centre", "omega_i", "incident", "incident_xy", "res", "supersample", "memory",
                      "footprints"});

@@ -5,6 +5,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <filesystem>
 #include <string>
 
 #include "cli_runner.hpp"
@@ -77,6 +78,52 @@ TEST(RenderCommand, BadScenesFailInOneLineAndWriteNothing) {
         EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
         EXPECT_EQ(testing::count_entries(directory.path()), 0) << result.output;
     }
+}
+
+}  // namespace
+}  // namespace glintscope
+
+namespace glintscope {
+namespace {
+
+// --light-sweep: one EXR and PNG per frame, one exposure for all, and a contact sheet whose
+// tiles are the frames' PNGs pixel for pixel (2 × 2 for 3 frames, the fourth black).
+TEST(RenderCommand, ALightSweepWritesItsFramesWithOneExposureAndAContactSheetOfThem) {
+    TemporaryDirectory directory;
+    const auto result = run_cli(with({"render"}, with(kScene, {"--lambda", "0.4um", "--light-sweep", "3", "-o",
+                                                               directory.file("s.exr"), "--png", directory.file("s.png")})));
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    const auto read = [](const std::string& path, OIIO::ImageSpec& spec) {
+        auto input = OIIO::ImageInput::open(path);
+        EXPECT_TRUE(input) << path;
+        spec = input->spec();
+        std::vector<unsigned char> pixels(std::size_t(spec.width) * spec.height * spec.nchannels);
+        input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data());
+        return pixels;
+    };
+    OIIO::ImageSpec sheet_spec;
+    const std::vector<unsigned char> sheet = read(directory.file("s-sheet.png"), sheet_spec);
+    ASSERT_EQ(sheet_spec.width, 40);
+    ASSERT_EQ(sheet_spec.height, 24);
+    std::string exposure;
+    for (int k = 0; k < 4; ++k) {
+        const std::size_t left = (k % 2) * 20, top = (k / 2) * 12;
+        std::vector<unsigned char> frame(20 * 12 * 3, 0);
+        if (k < 3) {
+            EXPECT_TRUE(std::filesystem::exists(directory.file("s-" + std::to_string(k) + ".exr")));
+            OIIO::ImageSpec spec;
+            frame = read(directory.file("s-" + std::to_string(k) + ".png"), spec);
+            const std::string ev = spec.get_string_attribute("glintscope:output.exposure_ev");
+            if (k == 0) exposure = ev;
+            EXPECT_EQ(ev, exposure);  // one exposure for every frame
+        }
+        for (std::size_t row = 0; row < 12; ++row)
+            for (std::size_t i = 0; i < 20 * 3; ++i)
+                ASSERT_EQ(sheet[((top + row) * 40) * 3 + left * 3 + i], frame[row * 20 * 3 + i]) << k;
+    }
+    const auto refused = run_cli(with({"render"}, with(kScene, {"--light-sweep", "3", "-o", directory.file("t.exr")})));
+    EXPECT_NE(refused.exit_code, 0);
+    EXPECT_NE(refused.output.find("--light-sweep needs --png"), std::string::npos) << refused.output;
 }
 
 }  // namespace

@@ -243,13 +243,35 @@ void parse_image_size(const std::string& text, PinholeCamera& camera) {
     camera.height = whole(height);
 }
 
-RenderImage render(const Scene& scene, const RenderSettings& settings, const RunProgress& progress) {
-    validate(scene, settings);
-    const ThreadScope threads(settings.threads);  // the field's hierarchy and the rows
+std::vector<Scene> light_sweep(const Scene& scene, int frames, double span_um) {
+    if (frames < 2 || frames > 256) throw Error("a light sweep needs 2 to 256 frames, got " + std::to_string(frames));
+    if (!(span_um > 0.0) || !std::isfinite(span_um))
+        throw Error("the light sweep's span must be a positive length, got " + shortest_text(span_um) + " um");
+    validate_camera(scene.camera);
+    const Vec3 right = camera_frame(scene.camera).right;
+    std::vector<Scene> sweep;
+    for (int k = 0; k < frames; ++k) {
+        Scene frame = scene;
+        const double offset = (double(k) / (frames - 1) - 0.5) * span_um;
+        for (PointLight& light : frame.lights) light.position_um = light.position_um + offset * right;
+        validate_lights(frame.lights);
+        sweep.push_back(std::move(frame));
+    }
+    return sweep;
+}
+
+namespace {
+
+// The method's BSDF for any footprint of the scene's heightfield: built once per query.
+BsdfField scene_field(const Scene& scene) {
     LobeQuery query = scene.query;
     query.quantity = Quantity::brdf;
     query.supersample = 1;
-    const BsdfField field = make_bsdf_field(scene.method, query);
+    return make_bsdf_field(scene.method, query);
+}
+
+RenderImage render_with(const Scene& scene, const BsdfField& field, const RenderSettings& settings,
+                        const RunProgress& progress) {
     const SceneGeometry geometry(scene, settings);
     const std::size_t layers = field.wavelengths_um().size();
 
@@ -272,7 +294,7 @@ RenderImage render(const Scene& scene, const RenderSettings& settings, const Run
                     for (int a = 0; a < geometry.per_axis; ++a) {
                         const ShadingPoint point = geometry.at(row, col, b, a);
                         if (!point.hit) continue;
-                        Footprint footprint = query.footprint;
+                        Footprint footprint = scene.query.footprint;
                         footprint.centre_um = point.heightfield_um;
                         const Bsdf bsdf = field.at(footprint);
                         for (const PointLight& light : scene.lights) {
@@ -293,6 +315,28 @@ RenderImage render(const Scene& scene, const RenderSettings& settings, const Run
         }
     });
     return image;
+}
+
+}  // namespace
+
+RenderImage render(const Scene& scene, const RenderSettings& settings, const RunProgress& progress) {
+    validate(scene, settings);
+    const ThreadScope threads(settings.threads);  // the field's hierarchy and the rows
+    return render_with(scene, scene_field(scene), settings, progress);
+}
+
+std::vector<RenderImage> render_light_sweep(const Scene& scene, int frames, double span_um, const RenderSettings& settings,
+                                            const RunProgress& progress) {
+    const std::vector<Scene> sweep = light_sweep(scene, frames, span_um);
+    validate(scene, settings);
+    const ThreadScope threads(settings.threads);
+    const BsdfField field = scene_field(scene);  // the lights move; the surface and its BSDFs do not
+    std::vector<RenderImage> images;
+    for (std::size_t k = 0; k < sweep.size(); ++k)
+        images.push_back(render_with(sweep[k], field, settings, [&](std::size_t done, std::size_t total) {
+            if (progress) progress(k * total + done, sweep.size() * total);
+        }));
+    return images;
 }
 
 }  // namespace glintscope

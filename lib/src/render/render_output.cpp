@@ -2,6 +2,9 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "output/image_files.hpp"
@@ -72,6 +75,46 @@ DisplayExposure write_render_png(const RenderImage& image, const std::string& pa
     facts["output.white_level"] = shortest_text(exposure.white_level) + " W m^-2 sr^-1 (luminance Y shown as 1)";
     add_attributes(spec, facts);
     write_image_file(path, spec, pixels.data(), OIIO::TypeDesc::UINT8);
+    return exposure;
+}
+
+DisplayExposure write_sweep_pngs(const std::vector<RenderImage>& frames, const std::vector<std::string>& frame_paths,
+                                 const std::string& sheet_path, const ColourSettings& colour) {
+    if (frames.empty() || frame_paths.size() != frames.size())
+        throw Error("a light sweep needs one PNG path per frame");
+    std::vector<std::vector<float>> xyz;
+    std::vector<float> all;
+    for (const RenderImage& frame : frames) {
+        check_image(frame);
+        if (frame.width != frames[0].width || frame.height != frames[0].height)
+            throw Error("the frames of a light sweep must share their size");
+        xyz.push_back(render_xyz(frame, colour));
+        all.insert(all.end(), xyz.back().begin(), xyz.back().end());
+    }
+    const DisplayExposure exposure = xyz_exposure(all, colour);
+    ColourSettings fixed = colour;
+    fixed.exposure_ev = exposure.ev;
+    const int width = frames[0].width, height = frames[0].height;
+    const int columns = static_cast<int>(std::ceil(std::sqrt(double(frames.size()))));
+    const int rows = static_cast<int>((frames.size() + columns - 1) / columns);
+    std::vector<std::uint8_t> sheet(std::size_t(columns) * width * rows * height * 3, 0);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+        write_render_png(frames[k], frame_paths[k], fixed);
+        const std::vector<std::uint8_t> pixels = xyz_to_display(std::move(xyz[k]), exposure, colour);
+        const std::size_t left = (k % columns) * std::size_t(width), top = (k / columns) * std::size_t(height);
+        for (int row = 0; row < height; ++row)
+            std::copy_n(pixels.begin() + std::size_t(row) * width * 3, std::size_t(width) * 3,
+                        sheet.begin() + ((top + row) * std::size_t(columns) * width + left) * 3);
+    }
+    OIIO::ImageSpec spec(columns * width, rows * height, 3, OIIO::TypeDesc::UINT8);
+    add_attributes(spec, frames[0].metadata);
+    Provenance facts = output_facts(frames[0], colour, "display-referred " + colour.display_space);
+    facts["output.image"] = "light sweep contact sheet: " + std::to_string(frames.size()) + " frames, " +
+                            std::to_string(columns) + " per row, row-major";
+    facts["output.exposure_ev"] = shortest_text(exposure.ev);
+    facts["output.exposure_rule"] = exposure.rule + ", one for every frame";
+    add_attributes(spec, facts);
+    write_image_file(sheet_path, spec, sheet.data(), OIIO::TypeDesc::UINT8);
     return exposure;
 }
 

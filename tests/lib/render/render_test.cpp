@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "glintscope/bsdf/bsdf.hpp"
@@ -269,6 +270,44 @@ TEST(Render, SceneTextIsParsedWithUnits) {
     EXPECT_THROW(parse_image_size("64x", camera), Error);
     EXPECT_THROW(parse_image_size("6.5x3", camera), Error);
     EXPECT_THROW(parse_camera("0,0:1,1,1", camera), Error);
+}
+
+}  // namespace
+}  // namespace glintscope
+
+namespace glintscope {
+namespace {
+
+// Yan 2018's light sweep: the lights move along the camera's right, so the mirror highlight of a
+// flat patch moves left to right through the frames, each time to its closed-form point.
+TEST(Render, ALightSweepMovesTheMirrorHighlightToEachFramesClosedFormPoint) {
+    Scene scene = mirror_scene(plane_field(64, 64, 1.0, 0.0), DiffractionModel::rohs, 20000.0);
+    const Vec3 camera = scene.camera.position_um, middle = scene.lights[0].position_um;
+    const double middle_t = camera.z / (camera.z + middle.z);
+    scene.camera.look_at_um = camera + middle_t * (Vec3{middle.x, middle.y, -middle.z} - camera);
+    const std::vector<Scene> sweep = light_sweep(scene, 3, 3000.0);
+    const std::vector<RenderImage> images = render_light_sweep(scene, 3, 3000.0, RenderSettings{1, 0});
+    ASSERT_EQ(sweep.size(), 3u);
+    ASSERT_EQ(images.size(), 3u);
+    int previous_col = -1;
+    for (std::size_t k = 0; k < sweep.size(); ++k) {
+        const Scene& frame = sweep[k];
+        // One BSDF field for all frames gives what a render of each frame alone gives.
+        EXPECT_EQ(images[k].values, render(frame, RenderSettings{1, 0}).values);
+        const Vec3 light = frame.lights[0].position_um;
+        EXPECT_EQ(light.z, scene.lights[0].position_um.z);  // moved horizontally
+        const double t = camera.z / (camera.z + light.z);
+        const Vec3 mirror_point = camera + t * (Vec3{light.x, light.y, -light.z} - camera);
+        const Peak peak = brightest(images[k]);
+        const Point2 expected = project(frame.camera, mirror_point);
+        EXPECT_LE(std::fabs(peak.col + 0.5 - expected.x), 1.0) << "expected column " << expected.x;
+        EXPECT_LE(std::fabs(peak.row + 0.5 - expected.y), 1.0) << "expected row " << expected.y;
+        EXPECT_GT(peak.col, previous_col + 3);  // left to right, several pixels per frame
+        previous_col = peak.col;
+    }
+    EXPECT_THROW(light_sweep(scene, 1, 3000.0), Error);
+    EXPECT_THROW(light_sweep(scene, 3, -1.0), Error);
+    EXPECT_THROW(light_sweep(scene, 3, std::numeric_limits<double>::infinity()), Error);
 }
 
 }  // namespace

@@ -101,9 +101,20 @@ void parse_camera(const std::string& text, PinholeCamera& camera);          // "
 PointLight parse_light(const std::string& text);                            // "X,Y,Z:I" (I in W/sr)
 void parse_image_size(const std::string& text, PinholeCamera& camera);      // "WIDTHxHEIGHT"
 
+// The light sweep of Yan 2018's video: `frames` scenes (2 to 256) in which every light moves
+// along the camera's right vector (horizontal) from −span/2 to +span/2 about its position, left
+// to right as the camera sees it. Throws Error for a bad count or span, or a frame whose light
+// would leave the valid range (validate).
+std::vector<Scene> light_sweep(const Scene& scene, int frames, double span_um);
+
 // The image: rows in parallel on settings.threads threads, each pixel summed in a fixed order, so
 // the result is bit-identical for any thread count. progress(done, total) is called with rows done,
 // one call at a time, from any of the threads.
 RenderImage render(const Scene& scene, const RenderSettings& settings, const RunProgress& progress = {});
+
+// The frames of light_sweep(scene, frames, span_um), each as render() makes it, the method's
+// BSDF field built once for all; progress counts rows over all frames.
+std::vector<RenderImage> render_light_sweep(const Scene& scene, int frames, double span_um, const RenderSettings& settings,
+                                            const RunProgress& progress = {});
 
 }  // namespace glintscope

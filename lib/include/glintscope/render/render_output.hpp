@@ -6,6 +6,7 @@
 // 99.5th percentile of luminance maps to 1), the exposure recorded as "glintscope:output.exposure_ev".
 // Both carry the render's metadata as "glintscope:<key>" attributes.
 #include <string>
+#include <vector>
 
 #include "glintscope/output/colour.hpp"
 #include "glintscope/render/render.hpp"
@@ -16,6 +17,13 @@ void write_render_exr(const RenderImage& image, const std::string& path, const C
 
 // Returns the exposure used.
 DisplayExposure write_render_png(const RenderImage& image, const std::string& path, const ColourSettings& colour);
+
+// A light sweep's frames (light_sweep) as display PNGs with one exposure for all (the auto rule
+// over every frame's pixels, unless the settings fix it), so that brightness changes between
+// frames are real, and a contact sheet of them: a grid of ⌈√n⌉ columns, row-major, black where
+// no frame falls. Returns the exposure.
+DisplayExposure write_sweep_pngs(const std::vector<RenderImage>& frames, const std::vector<std::string>& frame_paths,
+                                 const std::string& sheet_path, const ColourSettings& colour);
 
 // The EXR's "Y" channel or R, G, B channels back, [channel][row][col], for tests and comparisons.
 struct RenderExr {
