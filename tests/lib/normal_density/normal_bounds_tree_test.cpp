@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "relative_l2.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -48,14 +50,7 @@ std::vector<double> pixel_means(const NormalBoundsTree& tree, const Footprint& f
     return means;
 }
 
-double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
-    double difference = 0.0, norm = 0.0;
-    for (std::size_t k = 0; k < a.size(); ++k) {
-        difference += (a[k] - b[k]) * (a[k] - b[k]);
-        norm += b[k] * b[k];
-    }
-    return std::sqrt(difference / norm);
-}
+using testing::relative_l2;
 
 TEST(NormalBoundsTree, PixelMeanOfThePointQueryIsTheImagePixel) {
     // The same triangles (adaptive subdivision included): the image holds each pixel's exact

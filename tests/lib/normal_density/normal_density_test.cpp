@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "relative_l2.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -30,14 +32,7 @@ double total_mass(const std::vector<double>& density, int resolution) {
     return sum * disk_pixel_area(resolution);
 }
 
-double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
-    double difference = 0.0, norm = 0.0;
-    for (std::size_t k = 0; k < a.size(); ++k) {
-        difference += (a[k] - b[k]) * (a[k] - b[k]);
-        norm += b[k] * b[k];
-    }
-    return std::sqrt(difference / norm);
-}
+using testing::relative_l2;
 
 Footprint gaussian_at(Point2 centre, double sigma) {
     Footprint footprint;
