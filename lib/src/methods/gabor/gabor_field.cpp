@@ -79,15 +79,21 @@ SplatPlan plan_splat(const KernelArrays& kernels, const FootprintSamples& sample
     return plan;
 }
 
+// e^{−i2π t} with t reduced to [−½, ½] first, so that large phases keep their accuracy.
+Complex unit_phasor(double turns) {
+    const double reduced = turns - std::nearbyint(turns);
+    return {std::cos(2.0 * pi * reduced), -std::sin(2.0 * pi * reduced)};
+}
+
 // factors[j] = scale · gauss[j] e^{−i2π f (s_j − m)} over a span, the phase stepped by one
 // multiplication.
 void phase_factors(const SampleAxis& axis, AxisSpan span, const double* gauss, double m, double frequency,
                    Complex scale, double* re, double* im) {
     const double d0 = axis.first_um + span.first * axis.step_um - m;
-    const double turns = frequency * d0 - std::nearbyint(frequency * d0);
-    const Complex start = scale * Complex(std::cos(2.0 * pi * turns), -std::sin(2.0 * pi * turns));
+    const Complex start = scale * unit_phasor(frequency * d0);
     double c = start.real(), s = start.imag();
-    const double step_c = std::cos(2.0 * pi * frequency * axis.step_um), step_s = -std::sin(2.0 * pi * frequency * axis.step_um);
+    const Complex step = unit_phasor(frequency * axis.step_um);
+    const double step_c = step.real(), step_s = step.imag();
     for (int j = 0; j < span.count; ++j) {
         re[j] = gauss[j] * c;
         im[j] = gauss[j] * s;
@@ -97,29 +103,35 @@ void phase_factors(const SampleAxis& axis, AxisSpan span, const double* gauss, d
     }
 }
 
-// Second order: factors[j] = scale · gauss[j] e^{−i2π (f d_j + ½ q d_j²)}, d_j = s_j − m, each
-// phase computed directly (the chirp has no one-multiplication step).
+// Second order: factors[j] = scale · gauss[j] e^{−i2π (f d_j + ½ q d_j²)}, d_j = s_j − m. The phase's
+// second difference along the samples is the constant q h² (h the step), so the phasor advances
+// by a ratio that itself advances by e^{−i2π q h²}: two complex multiplications per sample, as
+// phase_factors, instead of a cosine and a sine.
 void chirped_factors(const SampleAxis& axis, AxisSpan span, const double* gauss, double m, double frequency,
                      double chirp, Complex scale, double* re, double* im) {
+    const double h = axis.step_um;
+    const double d0 = axis.first_um + span.first * h - m;
+    Complex phasor = scale * unit_phasor(frequency * d0 + 0.5 * chirp * d0 * d0);
+    Complex ratio = unit_phasor(frequency * h + chirp * h * d0 + 0.5 * chirp * h * h);
+    const Complex ratio_step = unit_phasor(chirp * h * h);
     for (int j = 0; j < span.count; ++j) {
-        const double d = axis.first_um + (span.first + j) * axis.step_um - m;
-        const double turns = frequency * d + 0.5 * chirp * d * d;
-        const Complex value = scale * gauss[j] * Complex(std::cos(2.0 * pi * turns), -std::sin(2.0 * pi * turns));
-        re[j] = value.real();
-        im[j] = value.imag();
+        re[j] = gauss[j] * phasor.real();
+        im[j] = gauss[j] * phasor.imag();
+        phasor = Complex(phasor.real() * ratio.real() - phasor.imag() * ratio.imag(),
+                         phasor.real() * ratio.imag() + phasor.imag() * ratio.real());
+        ratio = Complex(ratio.real() * ratio_step.real() - ratio.imag() * ratio_step.imag(),
+                        ratio.real() * ratio_step.imag() + ratio.imag() * ratio_step.real());
     }
 }
 
-// row[j] += factor · (x_re[j] + i x_im[j]) · e^{−i2π t (d_0 + j·step)}: the chirp's cross term
-// e^{−i2π B_xy d_x d_y} is, on a grid row (fixed d_y), a plane wave along x of frequency t = B_xy d_y,
-// stepped by one multiplication.
-void add_row_cross_chirped(Complex* row, Complex factor, const double* x_re, const double* x_im, int count,
-                           double frequency, double d0, double step) {
-    const double turns = frequency * d0 - std::nearbyint(frequency * d0);
-    Complex phasor = factor * Complex(std::cos(2.0 * pi * turns), -std::sin(2.0 * pi * turns));
-    const double step_c = std::cos(2.0 * pi * frequency * step), step_s = -std::sin(2.0 * pi * frequency * step);
+// row[j] += phasor · e^{−i2π t j h} · (x_re[j] + i x_im[j]), the step e^{−i2π t h} given: the chirp's
+// cross term e^{−i2π B_xy d_x d_y} is, on a grid row (fixed d_y), a plane wave along x of frequency
+// t = B_xy d_y, stepped by one multiplication.
+void add_row_cross_chirped(Complex* row, Complex phasor, Complex step, const double* x_re, const double* x_im,
+                           int count) {
     double* values = reinterpret_cast<double*>(row);
     double c = phasor.real(), s = phasor.imag();
+    const double step_c = step.real(), step_s = step.imag();
     for (int j = 0; j < count; ++j) {
         values[2 * j] += c * x_re[j] - s * x_im[j];
         values[2 * j + 1] += c * x_im[j] + s * x_re[j];
@@ -192,22 +204,32 @@ ReflectionSource kernel_field_source(const KernelArrays& kernels, const KernelGr
                     const AxisSpan sx = plan->x_span[k], sy = plan->y_span[k];
                     const double* x_re = &re[plan->x_offset[k]];
                     const double* x_im = &im[plan->x_offset[k]];
-                    for (int r = std::max(row_begin, sy.first); r < std::min(row_end, sy.first + sy.count); ++r) {
+                    const int r_begin = std::max(row_begin, sy.first), r_end = std::min(row_end, sy.first + sy.count);
+                    // Second order: the cross term's row phasor e^{−i2π B_xy d0 d_y} and step
+                    // e^{−i2π B_xy h_x d_y} are plane waves in d_y, advanced from row to row.
+                    Complex cross_start, cross_step, start_ratio, step_ratio;
+                    if (chirped) {
+                        const double b_xy = xi3_over_lambda * kernels.curvature_xy[k];
+                        const double d0 = samples.x.first_um + sx.first * samples.x.step_um - (centre_um.x + kernels.px[k]);
+                        const double dy = samples.y.first_um + r_begin * samples.y.step_um - (centre_um.y + kernels.py[k]);
+                        cross_start = unit_phasor(b_xy * d0 * dy);
+                        cross_step = unit_phasor(b_xy * samples.x.step_um * dy);
+                        start_ratio = unit_phasor(b_xy * d0 * samples.y.step_um);
+                        step_ratio = unit_phasor(b_xy * samples.x.step_um * samples.y.step_um);
+                    }
+                    for (int r = r_begin; r < r_end; ++r) {
                         const double f_re = re[plan->y_offset[k] + (r - sy.first)];
                         const double f_im = im[plan->y_offset[k] + (r - sy.first)];
                         const std::size_t at = static_cast<std::size_t>(r) * nx + sx.first;
                         if (chirped) {  // the cross term ξ3 H''_xy d_x d_y/λ
-                            const double mx = centre_um.x + kernels.px[k];
-                            const double dy = samples.y.first_um + r * samples.y.step_um - (centre_um.y + kernels.py[k]);
-                            const double frequency = xi3_over_lambda * kernels.curvature_xy[k] * dy;
-                            const double d0 = samples.x.first_um + sx.first * samples.x.step_um - mx;
-                            const Complex f(f_re, f_im);
-                            add_row_cross_chirped(&out[0][at], f, x_re, x_im, sx.count, frequency, d0, samples.x.step_um);
-                            if (!kirchhoff) continue;
-                            add_row_cross_chirped(&out[1][at], f * kernels.slope_x[k], x_re, x_im, sx.count, frequency,
-                                                  d0, samples.x.step_um);
-                            add_row_cross_chirped(&out[2][at], f * kernels.slope_y[k], x_re, x_im, sx.count, frequency,
-                                                  d0, samples.x.step_um);
+                            const Complex f = Complex(f_re, f_im) * cross_start;
+                            add_row_cross_chirped(&out[0][at], f, cross_step, x_re, x_im, sx.count);
+                            if (kirchhoff) {
+                                add_row_cross_chirped(&out[1][at], f * kernels.slope_x[k], cross_step, x_re, x_im, sx.count);
+                                add_row_cross_chirped(&out[2][at], f * kernels.slope_y[k], cross_step, x_re, x_im, sx.count);
+                            }
+                            cross_start *= start_ratio;
+                            cross_step *= step_ratio;
                             continue;
                         }
                         add_row(&out[0][at], f_re, f_im, x_re, x_im, sx.count);

@@ -25,6 +25,40 @@
 #endif
 
 namespace glintscope {
+namespace gabor {
+
+// Range of ∂H/∂x and ∂H/∂y over a node's kernels, rounded outward.
+struct SlopeBox {
+    float x_min, x_max, y_min, y_max;
+};
+
+// One level of the quadtree over the kernel grid.
+struct Level {
+    int nx = 0;
+    int ny = 0;
+    std::vector<SlopeBox> boxes;  // row-major, y-up like the kernel grid
+    // Second order: the largest ρ(H'') over each node's kernels (max |eigenvalue|, 1/µm,
+    // rounded up), which widens the node's directional reach; empty at first order.
+    std::vector<float> curvature_radii;
+};
+
+// Per leaf (K > 1 only), the codes of its kernels' ∂H/∂x then those of ∂H/∂y, kernel (i, j)
+// of the leaf at j·kLeafKernels + i: code = ⌊(H' − min) · 255/max(max − min, 1e-6)⌋ over the
+// leaf's box.
+struct LeafCodes {
+    unsigned char x[64];
+    unsigned char y[64];
+};
+
+}  // namespace gabor
+
+struct gabor::Hierarchy {
+    int kernels_x = 0;  // kernel grid of one tile of the periodic surface
+    int kernels_y = 0;
+    std::vector<gabor::Level> levels;  // levels[0]: leaves of kLeafKernels² kernels; back(): the root
+    std::vector<gabor::LeafCodes> leaf_codes;  // parallel to levels[0].boxes; empty at K = 1
+};
+
 namespace {
 
 // A leaf holds kLeafKernels² kernels: small enough that pruning is selective, large enough that
@@ -42,12 +76,12 @@ float round_up(double value) {
     return static_cast<double>(f) < value ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
 
-GaborSurface::SlopeBox empty_box() {
+gabor::SlopeBox empty_box() {
     const float inf = std::numeric_limits<float>::infinity();
     return {inf, -inf, inf, -inf};
 }
 
-void include(GaborSurface::SlopeBox& box, const GaborSurface::SlopeBox& other) {
+void include(gabor::SlopeBox& box, const gabor::SlopeBox& other) {
     box.x_min = std::min(box.x_min, other.x_min);
     box.x_max = std::max(box.x_max, other.x_max);
     box.y_min = std::min(box.y_min, other.y_min);
@@ -195,12 +229,12 @@ struct DirectionalReach {
     double reach_within(double radius) const {
         return chirp_scale == 0.0 ? reach : gabor::chirped_reach(reach, chirp_scale, xi3_over_lambda, radius);
     }
-    bool box_reaches(const GaborSurface::SlopeBox& box, double reach_here) const {
+    bool box_reaches(const gabor::SlopeBox& box, double reach_here) const {
         return gabor::slopes_reach(vx, vy, xi3_over_lambda, reach_here, box.x_min, box.x_max, box.y_min, box.y_max);
     }
     // The kernels of a leaf whose codes may hold a slope that reaches: v + ξ3 H'/λ ∈ [−reach,
     // reach] per axis is H' ∈ [(−reach − v)λ/ξ3, (reach − v)λ/ξ3] (ξ3 > 0).
-    std::uint64_t leaf_reaches(const GaborSurface::SlopeBox& box, const unsigned char* codes_x,
+    std::uint64_t leaf_reaches(const gabor::SlopeBox& box, const unsigned char* codes_x,
                                const unsigned char* codes_y, double reach) const {
         int first_x, span_x, first_y, span_y;
         SlopeCodec(box.x_min, box.x_max)
@@ -371,62 +405,48 @@ void check_finite(const GaborPointQuery& query) {
 
 }  // namespace
 
-GaborSurface::GaborSurface(std::shared_ptr<const BicubicInterpolant> surface, GaborSettings settings)
-    : surface_(std::move(surface)), settings_(settings) {
-    if (!surface_) throw Error("gabor: GaborSurface needs a heightfield interpolant");
-    validate(settings_);
-    kernels_x_ = surface_->cols() * settings_.kernels_per_texel;
-    kernels_y_ = surface_->rows() * settings_.kernels_per_texel;
-    // 2 bytes of codes per kernel and 16 bytes of bounds per leaf of kLeafKernels² kernels: 2^29
-    // kernels take 1.2 GB.
-    if (double(kernels_x_) * kernels_y_ > 536870912.0)
-        throw Error("gabor: " + std::to_string(surface_->cols()) + "x" + std::to_string(surface_->rows()) +
-                    " heightfield at " + std::to_string(settings_.kernels_per_texel) +
-                    " kernels per texel exceeds 2^29 kernels; use fewer kernels_per_texel");
-    build_leaves();
-    build_parents();
-}
+namespace {
 
-void GaborSurface::build_leaves() {
-    const gabor::KernelGrid grid = gabor::kernel_grid(surface_->texel_um(), settings_);
-    Level leaves;
-    leaves.nx = (kernels_x_ + kLeafKernels - 1) / kLeafKernels;
-    leaves.ny = (kernels_y_ + kLeafKernels - 1) / kLeafKernels;
+void build_leaves(const BicubicInterpolant& surface, const GaborSettings& settings, gabor::Hierarchy& h) {
+    const gabor::KernelGrid grid = gabor::kernel_grid(surface.texel_um(), settings);
+    gabor::Level leaves;
+    leaves.nx = (h.kernels_x + kLeafKernels - 1) / kLeafKernels;
+    leaves.ny = (h.kernels_y + kLeafKernels - 1) / kLeafKernels;
     leaves.boxes.resize(static_cast<std::size_t>(leaves.nx) * leaves.ny);
     // With K = 1 the kernels' H' are central differences of samples, as cheap to test as codes.
-    const bool coded = settings_.kernels_per_texel > 1;
-    if (coded) leaf_codes_.resize(leaves.boxes.size());
-    const bool chirped = settings_.order == 2;
+    const bool coded = settings.kernels_per_texel > 1;
+    if (coded) h.leaf_codes.resize(leaves.boxes.size());
+    const bool chirped = settings.order == 2;
     if (chirped) leaves.curvature_radii.resize(leaves.boxes.size());
     // One row of leaves per chunk: interpolate its kLeafKernels rows of kernels in one grid call.
     parallel_for(leaves.ny, 1, [&](std::size_t begin, std::size_t end) {
-        std::vector<SurfacePoint> points(static_cast<std::size_t>(kernels_x_) * kLeafKernels);
+        std::vector<SurfacePoint> points(static_cast<std::size_t>(h.kernels_x) * kLeafKernels);
         for (std::size_t leaf_row = begin; leaf_row < end; ++leaf_row) {
             const int j0 = static_cast<int>(leaf_row) * kLeafKernels;
-            const int rows = std::min(kLeafKernels, kernels_y_ - j0);
-            gabor::evaluate_kernels(*surface_, grid, 0, j0, kernels_x_, rows, points.data());
+            const int rows = std::min(kLeafKernels, h.kernels_y - j0);
+            gabor::evaluate_kernels(surface, grid, 0, j0, h.kernels_x, rows, points.data());
             for (int leaf_col = 0; leaf_col < leaves.nx; ++leaf_col) {
                 double x_min = std::numeric_limits<double>::infinity();
                 double x_max = -x_min;
                 double y_min = x_min;
                 double y_max = -x_min;
                 const int i0 = leaf_col * kLeafKernels;
-                const int i1 = std::min(kernels_x_, i0 + kLeafKernels);
+                const int i1 = std::min(h.kernels_x, i0 + kLeafKernels);
                 for (int j = 0; j < rows; ++j)
                     for (int i = i0; i < i1; ++i) {
-                        const SurfacePoint& p = points[static_cast<std::size_t>(j) * kernels_x_ + i];
+                        const SurfacePoint& p = points[static_cast<std::size_t>(j) * h.kernels_x + i];
                         x_min = std::min(x_min, p.dh_dx);
                         x_max = std::max(x_max, p.dh_dx);
                         y_min = std::min(y_min, p.dh_dy);
                         y_max = std::max(y_max, p.dh_dy);
                     }
-                const SlopeBox box{round_down(x_min), round_up(x_max), round_down(y_min), round_up(y_max)};
+                const gabor::SlopeBox box{round_down(x_min), round_up(x_max), round_down(y_min), round_up(y_max)};
                 leaves.boxes[leaf_row * leaves.nx + leaf_col] = box;
                 if (chirped) {
                     double radius = 0.0;
                     for (int j = j0; j < j0 + rows; ++j)
                         for (int i = i0; i < i1; ++i) {
-                            const SurfaceCurvature c = gabor::kernel_curvature(*surface_, grid, i, j);
+                            const SurfaceCurvature c = gabor::kernel_curvature(surface, grid, i, j);
                             radius = std::max(radius, gabor::spectral_radius(c.d2h_dx2, c.d2h_dxdy, c.d2h_dy2));
                         }
                     leaves.curvature_radii[leaf_row * leaves.nx + leaf_col] = round_up(radius);
@@ -434,25 +454,25 @@ void GaborSurface::build_leaves() {
                 if (!coded) continue;
                 const SlopeCodec codec_x(box.x_min, box.x_max);
                 const SlopeCodec codec_y(box.y_min, box.y_max);
-                LeafCodes& codes = leaf_codes_[leaf_row * leaves.nx + leaf_col];
+                gabor::LeafCodes& codes = h.leaf_codes[leaf_row * leaves.nx + leaf_col];
                 std::fill(std::begin(codes.x), std::end(codes.x), 0);
                 std::fill(std::begin(codes.y), std::end(codes.y), 0);
                 for (int j = 0; j < rows; ++j)
                     for (int i = i0; i < i1; ++i) {
-                        const SurfacePoint& p = points[static_cast<std::size_t>(j) * kernels_x_ + i];
+                        const SurfacePoint& p = points[static_cast<std::size_t>(j) * h.kernels_x + i];
                         codes.x[j * kLeafKernels + i - i0] = codec_x.code(p.dh_dx);
                         codes.y[j * kLeafKernels + i - i0] = codec_y.code(p.dh_dy);
                     }
             }
         }
     });
-    levels_.push_back(std::move(leaves));
+    h.levels.push_back(std::move(leaves));
 }
 
-void GaborSurface::build_parents() {
-    while (levels_.back().nx > 1 || levels_.back().ny > 1) {
-        const Level& child = levels_.back();
-        Level parent;
+void build_parents(gabor::Hierarchy& h) {
+    while (h.levels.back().nx > 1 || h.levels.back().ny > 1) {
+        const gabor::Level& child = h.levels.back();
+        gabor::Level parent;
         parent.nx = (child.nx + 1) / 2;
         parent.ny = (child.ny + 1) / 2;
         parent.boxes.assign(static_cast<std::size_t>(parent.nx) * parent.ny, empty_box());
@@ -466,14 +486,35 @@ void GaborSurface::build_parents() {
                 if (chirped)
                     parent.curvature_radii[to] = std::max(parent.curvature_radii[to], child.curvature_radii[from]);
             }
-        levels_.push_back(std::move(parent));
+        h.levels.push_back(std::move(parent));
     }
 }
 
+}  // namespace
+
+GaborSurface::GaborSurface(std::shared_ptr<const BicubicInterpolant> surface, GaborSettings settings)
+    : surface_(std::move(surface)), settings_(settings) {
+    if (!surface_) throw Error("gabor: GaborSurface needs a heightfield interpolant");
+    validate(settings_);
+    auto hierarchy = std::make_shared<gabor::Hierarchy>();
+    hierarchy->kernels_x = surface_->cols() * settings_.kernels_per_texel;
+    hierarchy->kernels_y = surface_->rows() * settings_.kernels_per_texel;
+    // 2 bytes of codes per kernel and 16 bytes of bounds per leaf of kLeafKernels² kernels: 2^29
+    // kernels take 1.2 GB.
+    if (double(hierarchy->kernels_x) * hierarchy->kernels_y > 536870912.0)
+        throw Error("gabor: " + std::to_string(surface_->cols()) + "x" + std::to_string(surface_->rows()) +
+                    " heightfield at " + std::to_string(settings_.kernels_per_texel) +
+                    " kernels per texel exceeds 2^29 kernels; use fewer kernels_per_texel");
+    build_leaves(*surface_, settings_, *hierarchy);
+    build_parents(*hierarchy);
+    hierarchy_ = std::move(hierarchy);
+}
+
 std::size_t GaborSurface::memory_bytes() const {
-    std::size_t bytes = sizeof(*this) + leaf_codes_.capacity() * sizeof(LeafCodes);
-    for (const Level& level : levels_)
-        bytes += level.boxes.capacity() * sizeof(SlopeBox) + level.curvature_radii.capacity() * sizeof(float);
+    const gabor::Hierarchy& h = *hierarchy_;
+    std::size_t bytes = sizeof(*this) + sizeof(h) + h.leaf_codes.capacity() * sizeof(gabor::LeafCodes);
+    for (const gabor::Level& level : h.levels)
+        bytes += level.boxes.capacity() * sizeof(gabor::SlopeBox) + level.curvature_radii.capacity() * sizeof(float);
     return bytes;
 }
 
@@ -546,7 +587,7 @@ struct GaborSurface::Collector {
     }
 
     // The directional reach of a node: widened by its curvature radius at second order.
-    double node_reach(const Level& level, std::size_t index) const {
+    double node_reach(const gabor::Level& level, std::size_t index) const {
         return chirped ? reach.reach_within(level.curvature_radii[index]) : reach.reach;
     }
 
@@ -558,8 +599,8 @@ struct GaborSurface::Collector {
             last = static_cast<int>(std::max(to, 0.0)) / kLeafKernels;
             return from <= to;
         };
-        return axis(cx, extent.x, surface.kernels_x_, range.x0, range.x1) &&
-               axis(cy, extent.y, surface.kernels_y_, range.y0, range.y1);
+        return axis(cx, extent.x, surface.hierarchy_->kernels_x, range.x0, range.x1) &&
+               axis(cy, extent.y, surface.hierarchy_->kernels_y, range.y0, range.y1);
     }
 
     // K = 1 reads the samples of the footprint's rows (and one more on each side), a few cache
@@ -569,11 +610,11 @@ struct GaborSurface::Collector {
     void prefetch_samples(const LeafRange& range, int leaf_row) const {
         if (leaf_row > range.y1) return;
         const int c0 = std::max(0, range.x0 * kLeafKernels - 1);
-        const int c1 = std::min(surface.kernels_x_, (range.x1 + 1) * kLeafKernels + 1);
+        const int c1 = std::min(surface.hierarchy_->kernels_x, (range.x1 + 1) * kLeafKernels + 1);
         const int j0 = leaf_row * kLeafKernels + (leaf_row == range.y0 ? -1 : 1);
         const int j1 = (leaf_row + 1) * kLeafKernels + 1;
         for (int j = j0; j < j1; ++j) {
-            const float* row = surface.surface_->sample_row((j + surface.kernels_y_) % surface.kernels_y_);
+            const float* row = surface.surface_->sample_row((j + surface.hierarchy_->kernels_y) % surface.hierarchy_->kernels_y);
             for (int c = c0; c < c1; c += 16) __builtin_prefetch(row + c);
             __builtin_prefetch(row + c1 - 1);
         }
@@ -583,8 +624,8 @@ struct GaborSurface::Collector {
         const int span = kLeafKernels << level;  // kernels per node side
         const int i0 = ix * span;
         const int j0 = iy * span;
-        const int i1 = std::min(surface.kernels_x_, i0 + span);
-        const int j1 = std::min(surface.kernels_y_, j0 + span);
+        const int i1 = std::min(surface.hierarchy_->kernels_x, i0 + span);
+        const int j1 = std::min(surface.hierarchy_->kernels_y, j0 + span);
         return window.overlaps(grid.centre(i0) - cx, grid.centre(i1 - 1) - cx, grid.centre(j0) - cy,
                                grid.centre(j1 - 1) - cy);
     }
@@ -596,7 +637,7 @@ struct GaborSurface::Collector {
             return ((range.x1 >> level) - (range.x0 >> level) + 1) * ((range.y1 >> level) - (range.y0 >> level) + 1);
         };
         int start = 0;
-        while (start + 1 < static_cast<int>(surface.levels_.size()) && nodes_spanned(start) > 16 * 16) ++start;
+        while (start + 1 < static_cast<int>(surface.hierarchy_->levels.size()) && nodes_spanned(start) > 16 * 16) ++start;
         return start;
     }
 
@@ -619,19 +660,19 @@ struct GaborSurface::Collector {
 
     // A node that reaches the query: a leaf is marked, a parent's overlapping children are queued.
     void visit_node(double cx, double cy, const LeafRange& range, int level_index, int ix, int iy) {
-        const Level& level = surface.levels_[level_index];
+        const gabor::Level& level = surface.hierarchy_->levels[level_index];
         ++counts.nodes_visited;
         const std::size_t index = static_cast<std::size_t>(iy) * level.nx + ix;
         if (!reach.box_reaches(level.boxes[index], node_reach(level, index))) return;
         if (level_index == 0) {
             scratch.leaf_map[static_cast<std::size_t>(iy - range.y0) * range.width() + (ix - range.x0)] = 1;
             if (!sampled) {
-                __builtin_prefetch(&surface.leaf_codes_[index]);
-                __builtin_prefetch(reinterpret_cast<const char*>(&surface.leaf_codes_[index]) + 64);
+                __builtin_prefetch(&surface.hierarchy_->leaf_codes[index]);
+                __builtin_prefetch(reinterpret_cast<const char*>(&surface.hierarchy_->leaf_codes[index]) + 64);
             }
             return;
         }
-        const Level& below = surface.levels_[level_index - 1];
+        const gabor::Level& below = surface.hierarchy_->levels[level_index - 1];
         const int shift = level_index - 1;
         for (int dy = 0; dy < 2; ++dy)
             for (int dx = 0; dx < 2; ++dx) {
@@ -651,19 +692,19 @@ struct GaborSurface::Collector {
     // depends on which kernels survive; then their H and H' (sample_point's arithmetic, with the
     // row's neighbours fixed) go straight into the kernel arrays.
     void add_sampled_row(double cx, double cy, int j, long long first, long long last) {
-        const int rows = surface.kernels_y_;
+        const int rows = surface.hierarchy_->kernels_y;
         const float* row = surface.surface_->sample_row(j);
         const float* below = surface.surface_->sample_row(j == 0 ? rows - 1 : j - 1);
         const float* above = surface.surface_->sample_row(j + 1 == rows ? 0 : j + 1);
         int* columns = scratch.survivor_columns.data();
         const std::size_t count = list_row_survivors(
-            below, row, above, surface.kernels_x_, scratch.leaf_columns.data(), scratch.leaf_columns.size(), first,
+            below, row, above, surface.hierarchy_->kernels_x, scratch.leaf_columns.data(), scratch.leaf_columns.size(), first,
             last, chirped ? scratch.leaf_bounds.data() : &difference_bounds, chirped ? 1 : 0, columns);
         counts.kernels_evaluated += count;
         const SampledRow sampled_row{below,
                                      row,
                                      above,
-                                     surface.kernels_x_,
+                                     surface.hierarchy_->kernels_x,
                                      grid.spacing_um,
                                      cx,
                                      grid.centre(j) - cy,
@@ -681,8 +722,8 @@ struct GaborSurface::Collector {
                         const long long* last) {
         const int i0 = leaf_column * kLeafKernels;
         const int j0 = leaf_row * kLeafKernels;
-        const int nx = std::min(kLeafKernels, surface.kernels_x_ - i0);
-        const int ny = std::min(kLeafKernels, surface.kernels_y_ - j0);
+        const int nx = std::min(kLeafKernels, surface.hierarchy_->kernels_x - i0);
+        const int ny = std::min(kLeafKernels, surface.hierarchy_->kernels_y - j0);
         std::uint64_t inside = 0;  // kernels of the leaf that the window contains
         for (int j = 0; j < ny; ++j) {
             const long long from = std::max<long long>(first[j], i0);
@@ -692,9 +733,9 @@ struct GaborSurface::Collector {
             inside |= run << (j * kLeafKernels + (from - i0));
         }
         if (inside == 0) return;
-        const std::size_t index = static_cast<std::size_t>(leaf_row) * surface.levels_.front().nx + leaf_column;
-        const LeafCodes& codes = surface.leaf_codes_[index];
-        const Level& leaves = surface.levels_.front();
+        const std::size_t index = static_cast<std::size_t>(leaf_row) * surface.hierarchy_->levels.front().nx + leaf_column;
+        const gabor::LeafCodes& codes = surface.hierarchy_->leaf_codes[index];
+        const gabor::Level& leaves = surface.hierarchy_->levels.front();
         std::uint64_t bits =
             inside & reach.leaf_reaches(leaves.boxes[index], codes.x, codes.y, node_reach(leaves, index));
         if (bits == 0) return;
@@ -717,9 +758,9 @@ struct GaborSurface::Collector {
     void add_leaf_row(double cx, double cy, int leaf_row) {
         const std::vector<int>& leaf_columns = scratch.leaf_columns;
         const int j0 = leaf_row * kLeafKernels;
-        const int j1 = std::min(surface.kernels_y_, j0 + kLeafKernels);
+        const int j1 = std::min(surface.hierarchy_->kernels_y, j0 + kLeafKernels);
         const int i0 = leaf_columns.front() * kLeafKernels;
-        const int i1 = std::min(surface.kernels_x_, (leaf_columns.back() + 1) * kLeafKernels);
+        const int i1 = std::min(surface.hierarchy_->kernels_x, (leaf_columns.back() + 1) * kLeafKernels);
         long long first[kLeafKernels];
         long long last[kLeafKernels];
         for (int j = j0; j < j1; ++j)
@@ -732,7 +773,7 @@ struct GaborSurface::Collector {
             scratch.survivor_columns.resize(
                 std::max(scratch.survivor_columns.size(), leaf_columns.size() * kLeafKernels + 8));
             if (chirped) {
-                const Level& leaves = surface.levels_.front();
+                const gabor::Level& leaves = surface.hierarchy_->levels.front();
                 scratch.leaf_bounds.clear();
                 for (const int leaf_column : leaf_columns) {
                     const std::size_t index = static_cast<std::size_t>(leaf_row) * leaves.nx + leaf_column;
@@ -768,8 +809,8 @@ struct GaborSurface::Collector {
 
     // The surface tiles periodically: visit every tile copy the footprint overlaps.
     void add_tile_copies() {
-        const double tile_x = surface.kernels_x_ * grid.spacing_um;
-        const double tile_y = surface.kernels_y_ * grid.spacing_um;
+        const double tile_x = surface.hierarchy_->kernels_x * grid.spacing_um;
+        const double tile_y = surface.hierarchy_->kernels_y * grid.spacing_um;
         for (long long ty = std::llround(std::floor((centre.y - extent.y) / tile_y));
              ty <= std::llround(std::floor((centre.y + extent.y) / tile_y)); ++ty)
             for (long long tx = std::llround(std::floor((centre.x - extent.x) / tile_x));

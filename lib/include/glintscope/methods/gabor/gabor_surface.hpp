@@ -23,6 +23,7 @@ namespace glintscope {
 
 namespace gabor {
 class KernelArrays;
+struct Hierarchy;  // the pruning quadtree (gabor_surface.cpp)
 }
 
 // ---- Settings shared by images and point queries -----------------------------------------
@@ -90,41 +91,18 @@ public:
     const GaborSettings& settings() const { return settings_; }
     std::size_t memory_bytes() const;  // of the hierarchy (the interpolant is shared)
 
-    struct SlopeBox {  // range of ∂H/∂x and ∂H/∂y over a node's kernels, rounded outward
-        float x_min, x_max, y_min, y_max;
-    };
-
 private:
-    struct Level {
-        int nx = 0;
-        int ny = 0;
-        std::vector<SlopeBox> boxes;  // row-major, y-up like the kernel grid
-        // Second order: the largest ρ(H'') over each node's kernels (max |eigenvalue|, 1/µm,
-        // rounded up), which widens the node's directional reach; empty at first order.
-        std::vector<float> curvature_radii;
-    };
-    // Per leaf (K > 1 only), the codes of its kernels' ∂H/∂x then those of ∂H/∂y, kernel (i, j)
-    // of the leaf at j·kLeafKernels + i: code = ⌊(H' − min) · 255/max(max − min, 1e-6)⌋ over the
-    // leaf's box.
-    struct LeafCodes {
-        unsigned char x[64];
-        unsigned char y[64];
-    };
-
     struct Collector;  // one query's walk (gabor_surface.cpp)
 
-    void build_leaves();
-    void build_parents();
     // Appends the kernels that survive pruning at `prune_lambda_um`, heights relative to H(x_c).
     void collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
                  GaborQueryStatistics* statistics) const;
 
     std::shared_ptr<const BicubicInterpolant> surface_;
     GaborSettings settings_;
-    int kernels_x_ = 0;  // kernel grid of one tile of the periodic surface
-    int kernels_y_ = 0;
-    std::vector<Level> levels_;  // levels_[0]: leaves of kLeafKernels² kernels; back(): the root
-    std::vector<LeafCodes> leaf_codes_;  // parallel to levels_[0].boxes; empty at K = 1
+    // The quadtree's layout stays out of this header, so that it can change without changing this
+    // class's; immutable, so copies share it.
+    std::shared_ptr<const gabor::Hierarchy> hierarchy_;
 };
 
 }  // namespace glintscope
