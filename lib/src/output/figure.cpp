@@ -84,6 +84,7 @@ std::vector<std::string> caption_lines(const LobeImage& lobe) {
     if (applies(lobe, "model") && lobe.quantity == Quantity::brdf && !metadata(lobe, "query.model").empty())
         first.push_back(metadata(lobe, "query.model"));
     if (!metadata(lobe, "gabor.kernels_per_texel").empty()) first.push_back("K = " + metadata(lobe, "gabor.kernels_per_texel"));
+    if (!metadata(lobe, "gabor.order").empty()) first.push_back("order " + metadata(lobe, "gabor.order"));
     if (applies(lobe, "material") && metadata(lobe, "query.material") != "none" && !metadata(lobe, "query.material").empty())
         first.push_back(metadata(lobe, "query.material"));
     std::vector<std::string> second;
