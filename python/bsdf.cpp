@@ -3,6 +3,9 @@
 // Python threads run meanwhile.
 #include "bindings.hpp"
 
+#include <optional>
+#include <vector>
+
 #include "glintscope/bsdf/bsdf.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
@@ -71,12 +74,15 @@ void for_each_item(std::size_t count, Body body) {
     });
 }
 
-py::array_t<double> eval(const Bsdf& bsdf, py::handle wi, py::handle wo) {
+// wavelengths: None (the BSDF's own) or a sequence of wavelengths in µm, one output layer each.
+py::array_t<double> eval(const Bsdf& bsdf, py::handle wi, py::handle wo, std::optional<std::vector<double>> wavelengths) {
     const Broadcast in = broadcast({{wi, 3}, {wo, 3}}, {"wi", "wo"});
-    const std::size_t layers = bsdf.wavelengths_um().size();
+    const std::size_t layers = wavelengths ? wavelengths->size() : bsdf.wavelengths_um().size();
+    if (wavelengths) bsdf.eval({0.0, 0.0, 1.0}, {0.0, 0.0, 1.0}, *wavelengths);  // refuses bad ones before the loop
     std::vector<double> out(in.count * layers);
     for_each_item(in.count, [&](std::size_t i) {
-        const std::vector<double> f = bsdf.eval(direction(in.arrays[0], i), direction(in.arrays[1], i));
+        const Vec3 omega_i = direction(in.arrays[0], i), omega_o = direction(in.arrays[1], i);
+        const std::vector<double> f = wavelengths ? bsdf.eval(omega_i, omega_o, *wavelengths) : bsdf.eval(omega_i, omega_o);
         std::copy(f.begin(), f.end(), out.begin() + i * layers);
     });
     return owned_array(std::move(out), with_axis(in.shape, py::ssize_t(layers)));
@@ -127,7 +133,11 @@ void bind_bsdf(py::module_& module) {
                      "A method's BSDF for one footprint (docs/renderer.md): immutable, safe to query from many threads. "
                      "Directions are (..., 3) arrays in the heightfield's frame (+z the mean normal), broadcast against "
                      "each other; wi points toward the light, wo toward the viewer.")
-        .def("eval", &eval, py::arg("wi"), py::arg("wo"), "f_r(wi, wo) in 1/sr without the cosine: shape (..., L).")
+        .def("eval", &eval, py::arg("wi"), py::arg("wo"), py::arg("wavelengths") = py::none(),
+             "f_r(wi, wo) in 1/sr without the cosine: shape (..., L), L the BSDF's wavelengths or, given "
+             "`wavelengths` (um), one layer each (any wavelength where `any_wavelength`, else the BSDF's own).")
+        .def_property_readonly("any_wavelength", &Bsdf::any_wavelength,
+                               "Whether eval answers wavelengths other than the ones the BSDF was made with.")
         .def("sample", &sample, py::arg("wi"), py::arg("u"),
              "wo from two uniforms u (..., 2) in [0, 1): (wo (..., 3), pdf (...) per solid angle, weight (..., L) = "
              "f_r cos(theta_o) / pdf); pdf 0 where no direction was found.")

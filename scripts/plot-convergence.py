@@ -16,12 +16,15 @@ def main(source, target):
         for row in csv.DictReader(stream):
             series.setdefault(row["series"], []).append((float(row["parameter"]), float(row["relative_l2"])))
     figure, (gabor, fft) = plt.subplots(1, 2, figsize=(9, 3.6))
-    k, error = zip(*series["gabor_kernels_per_texel"])
-    gabor.loglog(k, [100 * e for e in error], "o-")
+    for order, marker in ((1, "o-"), (2, "D-")):
+        k, error = zip(*series[f"gabor_order_{order}_kernels_per_texel"])
+        label = "first order (Yan 2018 eq. 12-15)" if order == 1 else "second order (chirped)"
+        gabor.loglog(k, [100 * e for e in error], marker, label=label)
     gabor.set_xticks(k, [str(int(x)) for x in k])
+    gabor.legend(fontsize="small")
     gabor.set_xlabel("Gabor kernels per texel K")
     gabor.set_ylabel("relative L2 against FFT [%]")
-    gabor.set_title("Gabor (Yan 2018 §4) vs FFT ground truth")
+    gabor.set_title("Gabor kernels vs FFT ground truth")
     step, error = zip(*series["fft_step_um"])
     fft.loglog(step, [100 * e for e in error], "s-", color="tab:orange")
     fft.set_xlabel("FFT grid step [um]")

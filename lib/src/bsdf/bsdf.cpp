@@ -110,6 +110,7 @@ const std::vector<double>& Bsdf::wavelengths_um() const { return state_->query.w
 
 bool Bsdf::evaluates_directly() const { return static_cast<bool>(state_->point.eval); }
 bool Bsdf::samples_directly() const { return static_cast<bool>(state_->point.sample); }
+bool Bsdf::any_wavelength() const { return static_cast<bool>(state_->point.eval_at_wavelengths); }
 
 // Unit directions above the horizon from here on.
 namespace {
@@ -127,6 +128,34 @@ std::vector<double> Bsdf::eval(Vec3 omega_i, Vec3 omega_o) const {
     if (omega_i.z <= 0.0 || omega_o.z <= 0.0) return std::vector<double>(wavelengths_um().size(), 0.0);
     if (state_->point.eval) return state_->point.eval(omega_i, omega_o);
     return values_at(*state_->table(omega_i), omega_o.x, omega_o.y);
+}
+
+std::vector<double> Bsdf::eval(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& chosen_um) const {
+    for (const double lambda : chosen_um)
+        if (!(lambda > 0.0 && std::isfinite(lambda)))
+            throw Error("bsdf eval: wavelengths must be positive and finite (um), got " + shortest_text(lambda));
+    if (state_->point.eval_at_wavelengths) {
+        omega_i = unit_direction(omega_i, "omega_i");
+        omega_o = unit_direction(omega_o, "omega_o");
+        if (omega_i.z <= 0.0 || omega_o.z <= 0.0) return std::vector<double>(chosen_um.size(), 0.0);
+        return state_->point.eval_at_wavelengths(omega_i, omega_o, chosen_um);
+    }
+    // Tables and images hold the query's wavelengths only: pick those asked for.
+    const std::vector<double>& made_with = wavelengths_um();
+    std::vector<std::size_t> layers;
+    for (const double lambda : chosen_um) {
+        const auto same = [lambda](double other) { return std::fabs(other - lambda) <= 1e-9 * lambda; };
+        const auto found = std::find_if(made_with.begin(), made_with.end(), same);
+        if (found == made_with.end())
+            throw Error("bsdf eval: " + method() + " answers only the wavelengths its BSDF was made with (" +
+                        join_numbers(made_with) + " um), not " + shortest_text(lambda) +
+                        " um; make the BSDF with the wavelengths you need");
+        layers.push_back(static_cast<std::size_t>(found - made_with.begin()));
+    }
+    const std::vector<double> all = eval(omega_i, omega_o);
+    std::vector<double> picked;
+    for (const std::size_t layer : layers) picked.push_back(all[layer]);
+    return picked;
 }
 
 double Bsdf::pdf(Vec3 omega_i, Vec3 omega_o) const {

@@ -23,6 +23,10 @@ struct PointAnswers {
     // A sampler and its exact pdf (both or neither).
     std::function<DirectionSample(Vec3 omega_i, double u1, double u2)> sample;
     std::function<double(Vec3 omega_i, Vec3 omega_o)> pdf;
+    // f_r at wavelengths of the caller's choice (µm, positive and finite), for a point query that
+    // takes any λ; without it only the query's wavelengths can be asked for.
+    std::function<std::vector<double>(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& wavelengths_um)>
+        eval_at_wavelengths;
 };
 
 // A method's point answers for any footprint of the query's heightfield: built once from the

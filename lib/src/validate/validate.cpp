@@ -107,7 +107,7 @@ std::vector<ConvergencePoint> run_convergence(const ValidationPlan& plan, const 
     query.model = validation_models(plan).front();
     query.wavelengths_um = {query.wavelengths_um.front()};
     query.method_options.clear();
-    const std::size_t total = 1 + 4 + 1 + 4;
+    const std::size_t total = 1 + 2 * 4 + 1 + 4;
     std::size_t done = 0;
     const auto step = [&](const std::string& what) {
         if (progress) progress(++done, total, what);
@@ -115,13 +115,15 @@ std::vector<ConvergencePoint> run_convergence(const ValidationPlan& plan, const 
     std::vector<ConvergencePoint> points;
     const LobeImage reference = compute_lobe("fft", query);
     step("fft");
-    for (int kernels = 1; kernels <= 4; ++kernels) {
-        LobeQuery test = query;
-        test.method_options["kernels_per_texel"] = std::to_string(kernels);
-        points.push_back({"gabor_kernels_per_texel", double(kernels),
-                          compare_lobes(compute_lobe("gabor", test), reference).at(0).relative_l2});
-        step("gabor, K = " + std::to_string(kernels));
-    }
+    for (const int order : {1, 2})
+        for (int kernels = 1; kernels <= 4; ++kernels) {
+            LobeQuery test = query;
+            test.method_options["kernels_per_texel"] = std::to_string(kernels);
+            test.method_options["order"] = std::to_string(order);
+            points.push_back({"gabor_order_" + std::to_string(order) + "_kernels_per_texel", double(kernels),
+                              compare_lobes(compute_lobe("gabor", test), reference).at(0).relative_l2});
+            step("gabor, order " + std::to_string(order) + ", K = " + std::to_string(kernels));
+        }
     // The automatic step (the finer of the two axes'), then the FFT at fractions of it.
     const std::vector<std::string> steps = split(reference.metadata.at("fft.step_um"), ',');
     const double automatic = std::min(parse_number(steps.at(0)), parse_number(steps.at(1)));

@@ -65,6 +65,42 @@ TEST(BsdfField, GaborEvalEqualsItsClosedFormImageAtPixelCentres) {
     }
 }
 
+// Wavelengths chosen per call: gabor's point query answers any λ, exactly as a BSDF made with
+// those wavelengths; a BSDF answering from its images takes its own wavelengths only and names
+// the one it cannot answer.
+TEST(BsdfField, EvalAtChosenWavelengthsEqualsABsdfMadeWithThem) {
+    const LobeQuery query = gabor_query();  // 0.45 and 0.6 µm
+    const Bsdf bsdf = make_bsdf("gabor", query);
+    ASSERT_TRUE(bsdf.any_wavelength());
+    LobeQuery other = query;
+    other.wavelengths_um = {0.5, 0.7};
+    const Bsdf made_with_them = make_bsdf("gabor", other);
+    const Vec3 omega_i = direction_from_spherical(0.3, 0.2);
+    for (const Vec3 omega_o : {direction_from_spherical(0.25, 3.3), direction_from_spherical(0.45, 3.0)}) {
+        const std::vector<double> chosen = bsdf.eval(omega_i, omega_o, {0.5, 0.7});
+        const std::vector<double> expected = made_with_them.eval(omega_i, omega_o);
+        ASSERT_EQ(chosen.size(), 2u);
+        EXPECT_GT(expected[0], 0.0);
+        EXPECT_EQ(chosen[0], expected[0]);
+        EXPECT_EQ(chosen[1], expected[1]);
+        // One wavelength prunes at its own, two at the longer: the same sum in another order.
+        const double both = bsdf.eval(omega_i, omega_o).at(1);
+        EXPECT_NEAR(bsdf.eval(omega_i, omega_o, {0.6}).at(0), both, 1e-9 * both);
+    }
+    EXPECT_THROW(bsdf.eval(omega_i, omega_i, {0.0}), Error);
+
+    const Bsdf from_images = make_bsdf("fft", query);
+    ASSERT_FALSE(from_images.any_wavelength());
+    const Vec3 omega_o = direction_from_spherical(0.25, 3.3);
+    EXPECT_EQ(from_images.eval(omega_i, omega_o, {0.6}).at(0), from_images.eval(omega_i, omega_o).at(1));
+    try {
+        from_images.eval(omega_i, omega_o, {0.5});
+        ADD_FAILURE() << "a wavelength the tables do not hold was answered";
+    } catch (const Error& error) {
+        EXPECT_NE(std::string(error.what()).find("not 0.5 um"), std::string::npos) << error.what();
+    }
+}
+
 TEST(BsdfField, AtAFootprintIsMakeBsdfOfThatFootprint) {
     const LobeQuery query = gabor_query();
     const BsdfField field = make_bsdf_field("gabor", query);

@@ -34,6 +34,10 @@ class Bsdf {
 public:
     // f_r(ω_i, ω_o) in sr⁻¹, one value per wavelength of the query.
     std::vector<double> eval(Vec3 omega_i, Vec3 omega_o) const;
+    // f_r at the given wavelengths (µm), one value each: any wavelengths where the method's point
+    // query takes any λ (any_wavelength()), otherwise only wavelengths the BSDF was made with;
+    // throws Error naming the wavelength it cannot answer.
+    std::vector<double> eval(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& wavelengths_um) const;
     // ω_o from two uniforms in [0, 1), shared by all wavelengths.
     BsdfSample sample(Vec3 omega_i, double u1, double u2) const;
     // The density per unit solid angle with which sample() returns ω_o.
@@ -48,6 +52,8 @@ public:
     bool evaluates_directly() const;
     // Whether sample and pdf are the method's own sampler (else a pixel of its images).
     bool samples_directly() const;
+    // Whether eval answers wavelengths other than the ones it was made with.
+    bool any_wavelength() const;
 
     struct State;  // the method's parts and the tables (bsdf.cpp)
     explicit Bsdf(std::shared_ptr<State> state);

@@ -52,11 +52,11 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
                                           const PairCallback& pair = {});
 
 // Convergence of the two methods at the plan's first centre, model and wavelength:
-// - Gabor against the FFT ground truth as the kernels per texel K go 1, 2, 3, 4;
+// - Gabor against the FFT ground truth as the kernels per texel K go 1, 2, 3, 4, at both orders;
 // - the FFT against itself at a quarter of its automatic step, as the step goes from twice the
 //   automatic one down to half of it (what the automatic choice leaves on the table).
 struct ConvergencePoint {
-    std::string series;    // "gabor_kernels_per_texel" or "fft_step_um"
+    std::string series;    // "gabor_order_1_kernels_per_texel", "gabor_order_2_kernels_per_texel" or "fft_step_um"
     double parameter = 0.0;
     double relative_l2 = 0.0;
 };

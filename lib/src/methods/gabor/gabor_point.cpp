@@ -55,6 +55,10 @@ PointAnswersAt gabor_point_field(const LobeQuery& query) {
         answers.eval = [surface, footprint, model, material, wavelengths](Vec3 omega_i, Vec3 omega_o) {
             return surface->f_r({footprint, omega_i, omega_o, model, material}, wavelengths);
         };
+        answers.eval_at_wavelengths = [surface, footprint, model, material](Vec3 omega_i, Vec3 omega_o,
+                                                                          const std::vector<double>& chosen) {
+            return surface->f_r({footprint, omega_i, omega_o, model, material}, chosen);
+        };
         auto mixture = std::make_shared<const LazyMixture>(query.surface, grid, footprint,
                                                            surface->settings().footprint_sigmas, model, wavelengths);
         answers.sample = [mixture](Vec3 omega_i, double u1, double u2) { return mixture->get().sample(omega_i, u1, u2); };
