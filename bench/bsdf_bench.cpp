@@ -43,6 +43,14 @@ void BM_BsdfTable(benchmark::State& state, const char* method) {
 }
 BENCHMARK_CAPTURE(BM_BsdfTable, dk, "dk")->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The table of one ω_i for a method answered from its images: make_bsdf, then the first eval at
+// ω_i, which computes that ω_i's lobe image (geometric: its NDF at the oversampling it needs).
+void BM_BsdfTableOfAnIncidence(benchmark::State& state, const char* method) {
+    const glintscope::LobeQuery query = builtin_query(static_cast<int>(state.range(0)));
+    for (auto _ : state) benchmark::DoNotOptimize(glintscope::make_bsdf(method, query).eval(kIncident, kIncident));
+}
+BENCHMARK_CAPTURE(BM_BsdfTableOfAnIncidence, geometric, "geometric")->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 void BM_BsdfEval(benchmark::State& state, const char* method) {
     const glintscope::Bsdf bsdf = glintscope::make_bsdf(method, builtin_query(static_cast<int>(state.range(0))));
     const std::vector<glintscope::Vec3> directions = random_directions(4096);
@@ -52,8 +60,12 @@ void BM_BsdfEval(benchmark::State& state, const char* method) {
 }
 BENCHMARK_CAPTURE(BM_BsdfEval, dk, "dk")->Arg(128)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_BsdfEval, stam, "stam")->Arg(256)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_BsdfEval, fft_from_images, "fft")->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_BsdfEval, geometric_from_images, "geometric")->Arg(128)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_BsdfEval, fft, "fft")->Arg(64)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_BsdfEval, gabor, "gabor")->Arg(64)->Unit(benchmark::kMicrosecond);
+// Jakob 2014's count of the flakes (10⁶ in the footprint, Beckmann α = 0.2) reflecting ω_i into
+// the cone about ω_o; N = 64's default cone is 1.0°.
+BENCHMARK_CAPTURE(BM_BsdfEval, discrete, "discrete")->Arg(64)->Unit(benchmark::kMicrosecond);
 
 // The pdf alone: for gabor the sum over the footprint's kernel mixture (gabor_sampling.hpp).
 void BM_BsdfPdf(benchmark::State& state, const char* method) {
@@ -63,6 +75,8 @@ void BM_BsdfPdf(benchmark::State& state, const char* method) {
     for (auto _ : state) benchmark::DoNotOptimize(bsdf.pdf(kIncident, directions[k++ & 4095]));
 }
 BENCHMARK_CAPTURE(BM_BsdfPdf, gabor, "gabor")->Arg(64)->Unit(benchmark::kMicrosecond);
+// The smooth density at 2α convolved with the cone: 32 evaluations of it (flake_sampling.hpp).
+BENCHMARK_CAPTURE(BM_BsdfPdf, discrete, "discrete")->Arg(64)->Unit(benchmark::kMicrosecond);
 
 void BM_BsdfSample(benchmark::State& state, const char* method) {
     const glintscope::Bsdf bsdf = glintscope::make_bsdf(method, builtin_query(static_cast<int>(state.range(0))));
@@ -73,6 +87,8 @@ void BM_BsdfSample(benchmark::State& state, const char* method) {
 }
 BENCHMARK_CAPTURE(BM_BsdfSample, dk, "dk")->Arg(128)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_BsdfSample, stam_from_images, "stam")->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_BsdfSample, geometric_from_images, "geometric")->Arg(128)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_BsdfSample, gabor, "gabor")->Arg(64)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_BsdfSample, discrete, "discrete")->Arg(64)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -32,6 +32,18 @@ struct DiskChiSquare {
         return row * cells + col;
     }
 
+    // The counts of `samples` draws in the cells, draw(k) giving the k-th ω_o or none (the last
+    // cell counts those).
+    template <typename Draw>
+    std::vector<long> histogram(Grid grid, Vec3 omega_i, const Draw& draw) const {
+        std::vector<long> observed(cells * cells + 1, 0);
+        for (long k = 0; k < samples; ++k) {
+            const auto omega_o = draw(k);
+            ++observed[omega_o ? cell_of(grid, omega_i, *omega_o) : observed.size() - 1];
+        }
+        return observed;
+    }
+
     // The probability of each disk cell: the density per disk area (pdf / cosθ) averaged over
     // points × points points of the cell that lie inside the disk, times the cell's area inside the disk. Near
     // grazing a lobe may put much of its mass in the rim's slivers (G = 1 and 1/cosθ_o), so a sliver

@@ -71,9 +71,6 @@ auto prefixed(const std::string& method, const Make& make) {
     }
 }
 
-// Supersampling of the albedo's sum over eval: the image's rule (geometry.hpp) at K = 4.
-constexpr int kAlbedoSupersample = 4;
-
 }  // namespace
 
 struct Bsdf::State {
@@ -195,6 +192,7 @@ std::vector<double> Bsdf::albedo(Vec3 omega_i) const {
     const std::size_t layers = wavelengths_um().size();
     if (omega_i.z <= 0.0) return std::vector<double>(layers, 0.0);
     if (!state_->point.eval) return state_->table(omega_i)->integral;
+    if (state_->point.albedo) return state_->point.albedo(omega_i);
     // ∫ f_r dA over the disk by the images' own rule (image.hpp): K × K sub-pixels of the pixels
     // whose centre lies inside, so the albedo is the disk sum of the image at supersample K.
     const int n = state_->query.resolution, k = kAlbedoSupersample;

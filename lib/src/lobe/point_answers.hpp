@@ -23,11 +23,18 @@ struct PointAnswers {
     // A sampler and its exact pdf (both or neither).
     std::function<DirectionSample(Vec3 omega_i, double u1, double u2)> sample;
     std::function<double(Vec3 omega_i, Vec3 omega_o)> pdf;
+    // ∫ f_r cosθ_o dω_o per wavelength by the BSDF's rule (the image's disk sum at supersample
+    // kAlbedoSupersample over eval), where the method computes it faster than eval at every
+    // sub-pixel; empty: the BSDF sums eval itself.
+    std::function<std::vector<double>(Vec3 omega_i)> albedo = nullptr;
     // f_r at wavelengths of the caller's choice (µm, positive and finite), for a point query that
     // takes any λ; without it only the query's wavelengths can be asked for.
     std::function<std::vector<double>(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& wavelengths_um)>
         eval_at_wavelengths;
 };
+
+// The supersampling of the albedo's quadrature of a point query's eval (bsdf.hpp).
+inline constexpr int kAlbedoSupersample = 4;
 
 // A method's point answers for any footprint of the query's heightfield: built once from the
 // query (its footprint, ω_i and supersampling unused), `at` is cheap and safe from many threads.

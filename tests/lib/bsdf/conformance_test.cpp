@@ -69,10 +69,17 @@ double disk_integral(const LobeImage& image, std::size_t layer) {
 
 class BsdfConformance : public ::testing::TestWithParam<MethodCase> {};
 
-// A Gabor eval costs 15–50 µs (two wavelengths, second order), so 10⁶ samples per incidence, or
-// the albedo at N = 128, would take minutes: its sampler is tested over its kernel mixture and
-// its mean weight at N = 32 in tests/lib/methods/gabor/gabor_sampling_test.cpp.
-bool sampler_tested_with_its_method(const std::string& method) { return method == "gabor"; }
+// Bsdf::sample evaluates every sample's weight, so where an eval is costly 10⁶ samples per
+// incidence, or the albedo at N = 128, would take minutes; such methods test their samplers
+// themselves. gabor (15–50 µs per eval, two wavelengths, second order): over its kernel mixture,
+// the mean weight at N = 32 (tests/lib/methods/gabor/gabor_sampling_test.cpp). discrete (a count
+// of flakes in a tree per eval): over Jakob 2014's sampler, the mean weight at N = 40
+// (tests/lib/methods/discrete/flake_sampling_test.cpp). fft (its point evaluation of eq. 6, about
+// a millisecond for two wavelengths here): its sampler is the images' sampler, tested here with
+// every method that samples its images; the mean weight at N = 32 (tests/lib/methods/fft/fft_point_test.cpp).
+bool sampler_tested_with_its_method(const std::string& method) {
+    return method == "gabor" || method == "discrete" || method == "fft";
+}
 
 TEST_P(BsdfConformance, SamplesFollowThePdfWhichIntegratesToOne) {
     if (sampler_tested_with_its_method(GetParam().method.name)) GTEST_SKIP() << "tested with the method";
@@ -159,13 +166,14 @@ TEST_P(BsdfConformance, AlbedoIsTheImageSumAndTheMeanWeight) {
 TEST_P(BsdfConformance, OneAndEightThreadsGiveTheSameAnswers) {
     const LobeQuery query = isotropic_query(Quantity::brdf);
     const std::vector<Vec3> incident = {incidence(30.0), incidence(70.0)};
-    constexpr int kQueries = 4000;
+    // fft's point evaluation sums a grid of ~640k samples per wavelength: fewer queries.
+    const int queries = GetParam().method.name == "fft" ? 400 : 4000;
     // Each answer as numbers, in query order: eval at a fixed direction, then a sample.
     auto answers = [&](const Bsdf& bsdf, int threads) {
-        std::vector<std::vector<double>> out(kQueries);
+        std::vector<std::vector<double>> out(queries);
         auto work = [&](int first) {
             const CounterRng rng(22, 3);
-            for (int k = first; k < kQueries; k += threads) {
+            for (int k = first; k < queries; k += threads) {
                 const Vec3& omega_i = incident[k % incident.size()];
                 const BsdfSample s = bsdf.sample(omega_i, rng.uniform(2 * k), rng.uniform(2 * k + 1));
                 out[k] = bsdf.eval(omega_i, direction_from_spherical(0.3, 0.01 * k));

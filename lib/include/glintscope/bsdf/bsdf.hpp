@@ -48,7 +48,8 @@ public:
     const std::string& method() const;
     const std::vector<double>& wavelengths_um() const;
     // Whether eval is the method's own point query (else its images' pixels); albedo is then the
-    // image's disk sum at supersample 4, computed from eval.
+    // image's disk sum at supersample 4, computed from eval (or, fft, by the method's images,
+    // which compute the same sum).
     bool evaluates_directly() const;
     // Whether sample and pdf are the method's own sampler (else a pixel of its images).
     bool samples_directly() const;

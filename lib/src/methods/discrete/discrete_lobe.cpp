@@ -22,8 +22,28 @@ constexpr double kMaxTileFlakes = 9e15;  // counts stay exact integers in a doub
 
 struct SmoothDistribution {
     NormalDensity density;
+    SmoothSampler sampler;
     int table_depth = 16;  // Algorithm 2's deepest table level
 };
+
+// The Beckmann roughness with the table's mean square slopes along x and y (Beckmann's slope
+// variance is α²/2 per axis), over the flakes' share of projected area D dA on the disk.
+SmoothSampler beckmann_of_slopes(const DiskTable& table) {
+    const int n = table.resolution;
+    double mass = 0.0, xx = 0.0, yy = 0.0;
+    for (int row = 0; row < n; ++row)
+        for (int col = 0; col < n; ++col) {
+            const DiskPoint p = disk_pixel_point(row, col, n);
+            if (!inside_unit_disk(p)) continue;
+            const double w = table.pixel(row, col), z2 = 1.0 - p.x * p.x - p.y * p.y;
+            mass += w;
+            xx += w * p.x * p.x / z2;
+            yy += w * p.y * p.y / z2;
+        }
+    if (!(mass > 0.0)) return {SmoothSampler::Shape::beckmann, 0.4, 0.4};
+    auto alpha = [&](double mean_square) { return std::clamp(std::sqrt(2.0 * mean_square / mass), 0.005, 2.0); };
+    return {SmoothSampler::Shape::beckmann, 2.0 * alpha(xx), 2.0 * alpha(yy)};
+}
 
 SmoothDistribution smooth_distribution(const LobeQuery& query) {
     const std::string name = method_option_text(query, "distribution", "beckmann");
@@ -32,8 +52,13 @@ SmoothDistribution smooth_distribution(const LobeQuery& query) {
     const double ay = method_option_number(query, "alpha_y", alpha);
     for (const double a : {ax, ay})
         if (!(a >= 0.005 && a <= 2.0)) throw Error("option alpha must be between 0.005 and 2, got " + shortest_text(a));
-    if (name == "beckmann") return {[ax, ay](Vec3 m) { return m.z > 0.0 ? beckmann_ndf(ax, ay, m) * m.z : 0.0; }};
-    if (name == "ggx") return {[ax, ay](Vec3 m) { return m.z > 0.0 ? ggx_ndf(ax, ay, m) * m.z : 0.0; }};
+    // Jakob 2014 §3.4: the sampler's roughness α_sample = 2α.
+    if (name == "beckmann")
+        return {[ax, ay](Vec3 m) { return m.z > 0.0 ? beckmann_ndf(ax, ay, m) * m.z : 0.0; },
+                {SmoothSampler::Shape::beckmann, 2.0 * ax, 2.0 * ay}};
+    if (name == "ggx")
+        return {[ax, ay](Vec3 m) { return m.z > 0.0 ? ggx_ndf(ax, ay, m) * m.z : 0.0; },
+                {SmoothSampler::Shape::ggx, 2.0 * ax, 2.0 * ay}};
     if (name == "pndf") {
         // The surface's own exact P-NDF of the footprint, at up to 4× the image's resolution and
         // read bilinearly: glitter with the angular structure of the heightfield's normals.
@@ -43,7 +68,7 @@ SmoothDistribution smooth_distribution(const LobeQuery& query) {
         // Below the table's pixel the density is bilinear, which the shares of linear weights
         // follow: the hash table stops at triangles of about a pixel, (π/2)/2^(d−1) ≤ 2/N.
         const int depth = 1 + static_cast<int>(std::ceil(std::log2(0.25 * pi * table->resolution)));
-        return {[table](Vec3 m) { return m.z > 0.0 ? table->at(m.x, m.y) * m.z : 0.0; }, depth};
+        return {[table](Vec3 m) { return m.z > 0.0 ? table->at(m.x, m.y) * m.z : 0.0; }, beckmann_of_slopes(*table), depth};
     }
     throw Error("option distribution must be beckmann, ggx or pndf, got '" + name + "'");
 }
@@ -75,8 +100,12 @@ PixelQuery pixel_query(const LobeQuery& query, const DiscreteSetup& setup, DiskP
         pixel.scale = fraction_per_flake / (pixel.h.z * pi * sine * sine);
         return pixel;
     }
-    const Vec3 omega_i = query.omega_i;
-    const Vec3 omega_o = direction_from_disk(p.x, p.y);
+    return lobe_pixel_query(setup, query.omega_i, direction_from_disk(p.x, p.y));
+}
+
+PixelQuery lobe_pixel_query(const DiscreteSetup& setup, Vec3 omega_i, Vec3 omega_o) {
+    const double fraction_per_flake = 1.0 / (setup.density_per_um2 * setup.footprint.area_um2());
+    PixelQuery pixel;
     pixel.h = normalize(omega_i + omega_o);
     pixel.conic = spherical_conic(omega_i, omega_o, setup.cone);  // Jakob 2014 eq. 8
     const double cone_solid_angle = 2.0 * pi * (1.0 - std::cos(setup.cone));
@@ -96,6 +125,7 @@ double fresnel_at(const LobeQuery& query, Vec3 h) {
 void setup_discrete(const LobeQuery& query, DiscreteSetup& setup) {
     SmoothDistribution smooth = smooth_distribution(query);
     setup.integrals = integrate_distribution(std::move(smooth.density), 1e-2, 1e-8, smooth.table_depth);
+    setup.sampler = smooth.sampler;
     setup.footprint = flake_footprint(query.footprint);
     const double tile = method_option_length_um(query, "tile", 1000.0);
     const double reach = setup.footprint.gaussian
@@ -141,8 +171,13 @@ void setup_discrete(const LobeQuery& query, DiscreteSetup& setup) {
 
 namespace {
 
-// What one sub-pixel contributes before Fresnel: D̂ for an NDF, f_r/F for a lobe.
-
+// The metal's index per wavelength where a lobe has Fresnel's factor; none otherwise.
+std::vector<ComplexIndex> lobe_refractive_indices(const LobeQuery& query) {
+    std::vector<ComplexIndex> eta;
+    if (query.quantity == Quantity::brdf && !query.material.name.empty())
+        for (double lambda : query.wavelengths_um) eta.push_back(complex_refractive_index(query.material.name, lambda));
+    return eta;
+}
 
 struct QueryTotals {
     std::vector<std::vector<double>> sums;  // [layer][pixel]: Σ over sub-pixels
@@ -154,10 +189,8 @@ QueryTotals evaluate_pixels(const LobeQuery& query, const DiscreteSetup& setup) 
     const int n = query.resolution;
     const int k = query.supersample;
     const std::size_t layers = query.wavelengths_um.size();
-    const bool fresnel = query.quantity == Quantity::brdf && !query.material.name.empty();
-    std::vector<ComplexIndex> eta(layers);
-    if (fresnel)
-        for (std::size_t l = 0; l < layers; ++l) eta[l] = complex_refractive_index(query.material.name, query.wavelengths_um[l]);
+    const std::vector<ComplexIndex> eta = lobe_refractive_indices(query);
+    const bool fresnel = !eta.empty();
     QueryTotals totals;
     totals.sums.assign(layers, std::vector<double>(static_cast<std::size_t>(n) * n, 0.0));
     std::vector<double> row_nodes(n, 0.0), row_queries(n, 0.0);
@@ -213,6 +246,28 @@ LobeImage discrete_lobe(const LobeQuery& query) {
     return image;
 }
 
+// The BRDF of one footprint for single directions: eval is the image's pixel at ω_o (the flakes
+// reflecting ω_i into the cone of γ about ω_o, Jakob 2014 eq. 5 and 8, counted by Algorithm 1),
+// and the sampler is Jakob 2014 §3.4's (flake_sampling.hpp).
+PointAnswers discrete_point(const LobeQuery& query) {
+    auto setup = std::make_shared<DiscreteSetup>();  // shared, so material.normals stays valid
+    setup_discrete(query, *setup);
+    const std::vector<ComplexIndex> eta = lobe_refractive_indices(query);
+    const std::size_t layers = query.wavelengths_um.size();
+    auto sampler = std::make_shared<const FlakeSampler>(setup->sampler, setup->cone);
+    PointAnswers answers;
+    answers.eval = [setup, eta, layers](Vec3 omega_i, Vec3 omega_o) {
+        const PixelQuery q = lobe_pixel_query(*setup, omega_i, omega_o);
+        const double value = q.scale * count_flakes(setup->material, setup->footprint, q.conic, setup->epsilon).weighted;
+        std::vector<double> f(layers, value);
+        for (std::size_t l = 0; l < eta.size(); ++l) f[l] *= fresnel_conductor(eta[l], dot(omega_i, q.h));
+        return f;
+    };
+    answers.sample = [sampler](Vec3 omega_i, double u1, double u2) { return sampler->sample(omega_i, u1, u2); };
+    answers.pdf = [sampler](Vec3 omega_i, Vec3 omega_o) { return sampler->pdf(omega_i, omega_o); };
+    return answers;
+}
+
 }  // namespace
 
 MethodEntry discrete_method() {
@@ -237,6 +292,7 @@ MethodEntry discrete_method() {
         {"error", "relative error allowed where the count is estimated, eq. 10 (default 0.1)"},
     };
     entry.compute = discrete_lobe;
+    entry.point = discrete_point;
     return entry;
 }
 

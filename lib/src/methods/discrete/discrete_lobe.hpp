@@ -11,6 +11,7 @@
 #include "glintscope/lobe/query.hpp"
 #include "lobe/method.hpp"
 #include "methods/discrete/flake_hierarchy.hpp"
+#include "methods/discrete/flake_sampling.hpp"
 
 namespace glintscope {
 
@@ -25,6 +26,9 @@ struct DiscreteSetup {
     double cone = 0.0;          // γ, radians
     double epsilon = 0.1;
     double density_per_um2 = 0.0;
+    // Jakob 2014 §3.4: the smooth distribution at twice its roughness (pndf: the Beckmann
+    // distribution of the P-NDF's mean square slopes).
+    SmoothSampler sampler;
 };
 
 // Reads the options and builds the distribution's triangle table; throws Error naming a bad option.
@@ -38,6 +42,8 @@ struct PixelQuery {
     Vec3 h;
 };
 PixelQuery pixel_query(const LobeQuery& query, const DiscreteSetup& setup, DiskPoint p);
+// The same for the lobe at one pair of unit directions above the horizon.
+PixelQuery lobe_pixel_query(const DiscreteSetup& setup, Vec3 omega_i, Vec3 omega_o);
 
 // F at the first wavelength, for one direction pair (1 without a material).
 double fresnel_at(const LobeQuery& query, Vec3 h);

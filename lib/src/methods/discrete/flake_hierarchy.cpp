@@ -1,7 +1,6 @@
 #include "methods/discrete/flake_hierarchy.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -235,12 +234,15 @@ double estimated_share(const FlakeMaterial& material, const FlakeNode& node, con
     return scale * binomial_draw(node.count, std::min(1.0, space.mean * p / scale), material.seed, label, 3);
 }
 
-// A key for the query: the bits of its directions and footprint centre.
+// A key for the query: its directions and footprint centre rounded to 2^−30 (1e-9), so that the
+// same directions computed along another path (a BSDF's eval normalises the caller's unit vectors
+// again, an image derives them from its pixels) draw the same estimates: a difference of one ulp
+// changes the key only where it crosses a rounding boundary, about once in 10⁷ queries.
 std::uint64_t query_key(const SphericalConic& conic, const FlakeFootprint& footprint) {
     std::uint64_t key = 0;
     for (const double value : {conic.axis.x, conic.axis.y, conic.axis.z, conic.facing.x, conic.facing.y, conic.facing.z,
                                conic.c[0][0], footprint.centre_x, footprint.centre_y})
-        key = CounterRng(key, std::bit_cast<std::uint64_t>(value)).bits(0);
+        key = CounterRng(key, static_cast<std::uint64_t>(std::llround(std::ldexp(value, 30)))).bits(0);
     return key;
 }
 

@@ -486,8 +486,6 @@ FootprintSamples layer_samples(const LobeQuery& query, const ScatteringGeometry&
     return samples;
 }
 
-namespace {
-
 LobeImage fft_lobe(const LobeQuery& query) {
     // F(λ, cos θ_d) of the material with cos θ_d = ω_i·h = |ψ|/2, the index looked up once per wavelength.
     const bool has_material = !query.material.name.empty();
@@ -502,8 +500,6 @@ LobeImage fft_lobe(const LobeQuery& query) {
     scattering_layers(query, {query.omega_i, 1.0}, xi1, image);
     return image;
 }
-
-}  // namespace
 
 std::vector<MethodOption> fft_options() {
     return {{"step", "grid step, a length (default: alias-free per wavelength and axis)"},
@@ -524,7 +520,9 @@ MethodEntry fft_method() {
              {},
              fft_options(),
              true},
-            fft_lobe};
+            fft_lobe,
+            nullptr,
+            fft_point_field};
 }
 
 }  // namespace glintscope

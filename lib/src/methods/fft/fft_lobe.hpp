@@ -72,7 +72,15 @@ FootprintSamples layer_samples(const LobeQuery& query, const ScatteringGeometry&
 // over it, so that eval is the image's pixel at supersample 1 (to its chirp-z transforms'
 // rounding) for OHS and R-OHS. GHS, R-GHS and Kirchhoff use the exact ξ3 = ψ·n of each direction,
 // where the image interpolates between ξ3 nodes (within its phase_error).
+// Its albedo is the image's disk sum at supersample 4 (the chirp-z transforms compute the same
+// quadrature of eval as the BSDF's rule, bsdf.hpp, far faster than eval at each sub-pixel).
 PointAnswers fft_point(const LobeQuery& query);
+// The same for any footprint of the query's heightfield: the BSDF's point field (nothing to build
+// over the whole field, each footprint's grids are made on first use).
+PointAnswersAt fft_point_field(const LobeQuery& query);
+
+// The method's images: the query's lobe (planned: supersampling resolved).
+LobeImage fft_lobe(const LobeQuery& query);
 
 // The options above, checked.
 struct FftSettings {

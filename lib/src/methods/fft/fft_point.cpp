@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fft_lobe.hpp"
+#include "glintscope/lobe/image.hpp"
 #include "glintscope/optics/material.hpp"
 
 // The SIMD helper takes and returns no vector types across calls; -Wpsabi's note does not apply.
@@ -174,7 +175,24 @@ PointAnswers fft_point(const LobeQuery& query) {
     auto point = std::make_shared<const FftPoint>(query);
     PointAnswers answers;
     answers.eval = [point](Vec3 omega_i, Vec3 omega_o) { return point->eval(omega_i, omega_o); };
+    answers.albedo = [query](Vec3 omega_i) {
+        LobeQuery one = query;
+        one.omega_i = omega_i;
+        one.supersample = kAlbedoSupersample;
+        const LobeImage image = fft_lobe(one);
+        std::vector<double> albedo;
+        for (std::size_t layer = 0; layer < image.layers(); ++layer) albedo.push_back(disk_sum(image, layer));
+        return albedo;
+    };
     return answers;
+}
+
+PointAnswersAt fft_point_field(const LobeQuery& query) {
+    return [query](const Footprint& footprint) {
+        LobeQuery one = query;
+        one.footprint = footprint;
+        return fft_point(one);
+    };
 }
 
 }  // namespace glintscope
