@@ -449,17 +449,23 @@ TEST(Render, AGeometricPixelIsTheFieldsBsdfAtItsCellsFootprint) {
     EXPECT_GT(lit, 20);
 }
 
-// The smooth baseline (method fitted) renders the closed-form microfacet BRDF F D / (4 cosθ_i cosθ_o)
-// of the Beckmann model fitted to the whole field's P-NDF (fitted here from pndf's image) times
-// each pixel's irradiance: a highlight without glints to compare glint renders with.
-TEST(Render, TheFittedBaselineIsTheClosedFormMicrofacetBrdfTimesTheIrradiance) {
+// A Gaussian random field, 128² at 1 µm (period 128 µm), Gaussian correlation of 5 µm and rms
+// height 0.6 µm: Gaussian slopes of rms 0.17 per axis.
+Heightfield gaussian_surface() {
     Recipe recipe;
     recipe.kind = "gaussian";
     recipe.grid = {128, 128, 1.0};
     recipe.gaussian.sigma_h_um = 0.6;
     recipe.gaussian.correlation_length_x_um = recipe.gaussian.correlation_length_y_um = 5.0;
+    return generate(recipe);
+}
+
+// The smooth baseline (method fitted) renders the closed-form microfacet BRDF F D / (4 cosθ_i cosθ_o)
+// of the Beckmann model fitted to the whole field's P-NDF (fitted here from pndf's image) times
+// each pixel's irradiance: a highlight without glints to compare glint renders with.
+TEST(Render, TheFittedBaselineIsTheClosedFormMicrofacetBrdfTimesTheIrradiance) {
     Scene scene;
-    set_heightfield(scene.query, generate(recipe));
+    set_heightfield(scene.query, gaussian_surface());
     scene.method = "fitted";
     scene.query.wavelengths_um = {0.5};
     scene.query.material.name = "Al";
@@ -484,6 +490,84 @@ TEST(Render, TheFittedBaselineIsTheClosedFormMicrofacetBrdfTimesTheIrradiance) {
         EXPECT_NEAR(image.at(0, row, col), expected, 1e-5 * expected) << row << "," << col;
         EXPECT_GT(expected, 0.0);
     }
+}
+
+// A camera 10 m straight above the patch, its image exactly the patch: pixels are squares of
+// side patch/size on it, and ω_o is the normal to within side/10 m.
+Scene overhead_scene(double patch_um, int size) {
+    Scene scene;
+    scene.patch_um = patch_um;
+    scene.camera.position_um = {0.0, 0.0, 1e7};
+    scene.camera.look_at_um = {0.0, 0.0, 0.0};
+    scene.camera.vertical_fov_degrees = 2.0 * std::atan(0.5 * patch_um / 1e7) * 180.0 / pi;
+    scene.camera.width = scene.camera.height = size;
+    return scene;
+}
+
+// Averages: a rough surface (4.3 × 4.3 periods) lit by a distant light and seen by a distant
+// camera: the mean of the geometric render over the region, whose pixels see the P-NDFs of their
+// own footprints (glints), equals the render with the footprint-averaged lobe, the whole field's
+// (every point of a period weighs the same), E f_r(ω_i, ω_o; whole) per pixel (2%). A P-NDF at a
+// single h is dominated by the few points near its caustics (their 1/|det| weights have no finite
+// variance), so the intrinsic roughness 0.01 makes each pixel's D an average over nearby h.
+TEST(Render, TheMeanOfAGeometricRenderOverARoughRegionIsTheRenderOfTheMeanLobe) {
+    Scene scene = overhead_scene(550.0, 32);
+    set_heightfield(scene.query, gaussian_surface());
+    scene.method = "geometric";
+    scene.query.wavelengths_um = {0.5};
+    scene.query.method_options["intrinsic_roughness"] = "0.01";
+    scene.lights = {PointLight{{0.25 * 1e7, 0.1 * 1e7, 1e7}, 1.0}};  // ω_i about 15° from the normal
+    const RenderSettings settings{1, 0};
+    const RenderImage image = render(scene, settings);
+    LobeQuery query = scene.query;
+    const BsdfField field = make_bsdf_field("geometric", query);
+    Footprint whole;
+    whole.shape = FootprintShape::whole;
+    const Bsdf mean_lobe = field.at(whole);
+    // Both distances are 10 m: ω_i and ω_o vary by 3e-5 rad over the region, a thousandth of the
+    // intrinsic roughness, so the mean lobe is taken at the centre's directions.
+    const ShadingPoint centre = shading_points(scene, RenderSettings{1, 0}, 16, 16).at(0);
+    const double f_mean = mean_lobe.eval(light_arrival(scene.lights[0], centre.position_um).omega_i, centre.omega_o)[0];
+    double rendered = 0.0, expected = 0.0, brightest = 0.0, faintest = INFINITY;
+    for (int row = 0; row < 32; ++row)
+        for (int col = 0; col < 32; ++col) {
+            const ShadingPoint point = shading_points(scene, RenderSettings{1, 0}, row, col).at(0);
+            expected += f_mean * light_arrival(scene.lights[0], point.position_um).irradiance;
+            rendered += image.at(0, row, col);
+            brightest = std::max(brightest, double(image.at(0, row, col)));
+            faintest = std::min(faintest, double(image.at(0, row, col)));
+        }
+    EXPECT_GT(brightest, 2.0 * faintest);  // glints: the pixels differ, their mean does not
+    EXPECT_NEAR(rendered, expected, 0.02 * expected);  // measured 0.5%
+}
+
+// Energy: a light 2 mm above a 60 mm patch seen from 10 m straight above. By reciprocity
+// (f_r(ω_i, ω_o) = f_r(ω_o, ω_i)) and dω_i = cosθ_i dA / r² as seen from the light,
+// ∫ L cosθ_i dA = I ∫ f_r(ω_i, ω_o) cosθ_i dω_i = I · albedo(ω_o): the render sends the camera what
+// the BSDF's albedo says, for the smooth baseline with aluminium's F (the patch spans θ_i up to
+// 86°; the lobe beyond holds under 1e-6 of the albedo).
+TEST(Render, ARenderReflectsTheLightAsTheBsdfsAlbedoSays) {
+    constexpr double patch = 60000.0, height = 2000.0;
+    constexpr int size = 240;
+    Scene scene = overhead_scene(patch, size);
+    set_heightfield(scene.query, gaussian_surface());
+    scene.method = "fitted";
+    scene.query.wavelengths_um = {0.5};
+    scene.query.material.name = "Al";
+    scene.lights = {PointLight{{0.0, 0.0, height}, 3.0}};
+    const RenderImage image = render(scene, RenderSettings{16, 0});
+    const double side = patch / size;
+    double integral = 0.0;  // ∫ L cosθ_i dA in W/sr (dA in m²)
+    for (int row = 0; row < size; ++row)
+        for (int col = 0; col < size; ++col) {
+            const Vec3 x{(col + 0.5) * side - 0.5 * patch, 0.5 * patch - (row + 0.5) * side, 0.0};
+            const double cos_i = height / length(scene.lights[0].position_um - x);
+            integral += image.at(0, row, col) * cos_i * side * side * 1e-12;
+        }
+    const Vec3 omega_o{0.0, 0.0, 1.0};
+    const double albedo = make_bsdf("fitted", scene.query).albedo(omega_o)[0];
+    EXPECT_GT(albedo, 0.85);  // aluminium's F near normal incidence
+    EXPECT_NEAR(integral, 3.0 * albedo, 0.01 * 3.0 * albedo);
 }
 
 }  // namespace
