@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "normal_density/microfacet_answers.hpp"
 #include "normal_density/normal_density.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/optics/material.hpp"
@@ -213,6 +214,37 @@ LobeImage discrete_lobe(const LobeQuery& query) {
     return image;
 }
 
+// Jakob 2014's query for any footprint of a renderer's shading points: the flakes weighted by the
+// footprint's Gaussian (σ = σ_c) whose normal reflects ω_i into the cone of γ about ω_o (eq. 8),
+// f_r by eq. 5 with that footprint's area. The flakes themselves (tile, density, eq. 11's split
+// sizes) are fixed once by the query's own footprint, so every footprint sees the same flakes.
+// distribution=pndf is the P-NDF of the query's footprint alone, and a box or the whole field
+// is not a Gaussian: those are answered from the images.
+PointAnswersAt discrete_point_field(const LobeQuery& query) {
+    auto setup = std::make_shared<DiscreteSetup>();  // its material points into its own integrals: never moved
+    setup_discrete(query, *setup);
+    if (method_option_text(query, "distribution", "beckmann") == "pndf" || query.quantity != Quantity::brdf)
+        return [](const Footprint&) { return PointAnswers{}; };
+    auto base = std::make_shared<const LobeQuery>(query);
+    const std::vector<ComplexIndex> indices = refractive_indices(query);
+    return [setup, base, indices](const Footprint& footprint) -> PointAnswers {
+        if (footprint.shape != FootprintShape::gaussian) return {};
+        const FlakeFootprint flakes = flake_footprint(footprint);
+        const double area_ratio = setup->footprint.area_um2() / flakes.area_um2();  // pixel_query's scale is per setup's area
+        return {[setup, base, indices, flakes, area_ratio](Vec3 omega_i, Vec3 omega_o) {
+                    LobeQuery lit = *base;
+                    lit.omega_i = omega_i;
+                    const PixelQuery pixel = pixel_query(lit, *setup, {omega_o.x, omega_o.y});
+                    const FlakeCount count = count_flakes(setup->material, flakes, pixel.conic, setup->epsilon);
+                    std::vector<double> f(base->wavelengths_um.size(), pixel.scale * area_ratio * count.weighted);
+                    for (std::size_t l = 0; l < indices.size(); ++l)
+                        f[l] *= fresnel_conductor(indices[l], dot(omega_i, pixel.h));
+                    return f;
+                },
+                {}, {}};
+    };
+}
+
 }  // namespace
 
 MethodEntry discrete_method() {
@@ -237,6 +269,8 @@ MethodEntry discrete_method() {
         {"error", "relative error allowed where the count is estimated, eq. 10 (default 0.1)"},
     };
     entry.compute = discrete_lobe;
+    entry.point_field = discrete_point_field;
+    entry.bsdf_from_images = true;  // a footprint's own Bsdf keeps the images' eval, sampler and pdf
     return entry;
 }
 
