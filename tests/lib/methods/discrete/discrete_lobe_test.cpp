@@ -185,8 +185,9 @@ namespace {
 
 // The point field a renderer uses (a BSDF per shading point, each with its own footprint): for
 // the query's own footprint it is the image's pixel at supersample 1 (the same count at the
-// pixel centre's cone; exact counts, error 0: with eq. 10's estimates the two differed by up to
-// 15% at 1e4 flakes, the image's traversal sharing a split cache across pixels), and for a footprint 100× larger in area it counts the same flakes there
+// pixel centre's cone; exact counts, error 0: eq. 10's estimates are draws keyed by the query's
+// conic, and with them the two differed by up to 15% at 1e4 flakes, probably because the image's
+// sub-pixel point and disk_pixel_point differ in the last bits), and for a footprint 100× larger in area it counts the same flakes there
 // (glitter: it differs from the small footprint's) and converges to the smooth lobe of their
 // distribution (≈ 8·10⁵ flakes per cone: 1%; measured below 2% at 6 directions).
 TEST(DiscreteLobe, ThePointFieldIsTheImagesPixelAndCountsAnyFootprintsFlakes) {
