@@ -56,6 +56,11 @@ Scene view_of(const RenderCommand& command) {
 }
 
 LobeQuery query_of(const RenderCommand& command) {
+    if (renders_pixel_footprint(command.method))
+        for (const auto& [key, value] : command.given)
+            if (key == "sigma_c" || key == "box")
+                throw Error(flag_name(key) + " sets the coherence footprint, which a " + command.method +
+                            " render does not use: it sees each pixel's footprint on the patch");
     QueryText given = command.given;
     given.emplace_back("heightfield", command.heightfield);
     given.emplace_back("quantity", "brdf");

@@ -72,7 +72,8 @@ TEST(RenderCommand, BadScenesFailInOneLineAndWriteNothing) {
     const std::string exr = directory.file("bad.exr");
     for (const std::vector<std::string>& bad :
          {std::vector<std::string>{"--camera", "0,-6cm,-1cm:0,0,0"}, {"--light", "0,6cm,-7cm:2"}, {"--fov", "0"},
-          {"--size", "1000000x1000000"}, {"--spp", "0"}, {"--light", "0,nan,7cm:2"}, {"--method", "stam"}}) {
+          {"--size", "1000000x1000000"}, {"--spp", "0"}, {"--light", "0,nan,7cm:2"}, {"--method", "stam"},
+          {"--method", "geometric", "--sigma-c", "5um"}}) {
         const auto result = run_cli(with({"render", "builtin:isotropic", "-o", exr}, bad));
         EXPECT_EQ(result.exit_code, 1) << bad[0] << " " << bad[1] << ": " << result.output;
         EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
@@ -87,7 +88,8 @@ namespace glintscope {
 namespace {
 
 // --light-sweep: one EXR and PNG per frame, one exposure for all, and a contact sheet whose
-// tiles are the frames' PNGs pixel for pixel (2 × 2 for 3 frames, the fourth black).
+// tiles are the frames' PNGs pixel for pixel (2 × 2 for 3 frames, the fourth black), 2 grey
+// pixels apart.
 TEST(RenderCommand, ALightSweepWritesItsFramesWithOneExposureAndAContactSheetOfThem) {
     TemporaryDirectory directory;
     const auto result = run_cli(with({"render"}, with(kScene, {"--lambda", "0.4um", "--light-sweep", "3", "-o",
@@ -103,11 +105,13 @@ TEST(RenderCommand, ALightSweepWritesItsFramesWithOneExposureAndAContactSheetOfT
     };
     OIIO::ImageSpec sheet_spec;
     const std::vector<unsigned char> sheet = read(directory.file("s-sheet.png"), sheet_spec);
-    ASSERT_EQ(sheet_spec.width, 40);
-    ASSERT_EQ(sheet_spec.height, 24);
+    ASSERT_EQ(sheet_spec.width, 42);
+    ASSERT_EQ(sheet_spec.height, 26);
+    for (const std::size_t i : {std::size_t(20), std::size_t(21), std::size_t(12 * 42 + 5), std::size_t(13 * 42 + 30)})
+        EXPECT_EQ(sheet[i * 3], 96) << "gap pixel " << i;
     std::string exposure;
     for (int k = 0; k < 4; ++k) {
-        const std::size_t left = (k % 2) * 20, top = (k / 2) * 12;
+        const std::size_t left = (k % 2) * 22, top = (k / 2) * 14;
         std::vector<unsigned char> frame(20 * 12 * 3, 0);
         if (k < 3) {
             EXPECT_TRUE(std::filesystem::exists(directory.file("s-" + std::to_string(k) + ".exr")));
@@ -119,7 +123,7 @@ TEST(RenderCommand, ALightSweepWritesItsFramesWithOneExposureAndAContactSheetOfT
         }
         for (std::size_t row = 0; row < 12; ++row)
             for (std::size_t i = 0; i < 20 * 3; ++i)
-                ASSERT_EQ(sheet[((top + row) * 40) * 3 + left * 3 + i], frame[row * 20 * 3 + i]) << k;
+                ASSERT_EQ(sheet[((top + row) * 42) * 3 + left * 3 + i], frame[row * 20 * 3 + i]) << k;
     }
     const auto refused = run_cli(with({"render"}, with(kScene, {"--light-sweep", "3", "-o", directory.file("t.exr")})));
     EXPECT_NE(refused.exit_code, 0);

@@ -20,10 +20,10 @@ struct MethodEntry {
     MethodFunction compute = nullptr;  // answers every quantity in info.quantities
     PointFunction point = nullptr;     // brdf for single directions; none: from the images (bsdf/)
     PointFieldFunction point_field = nullptr;  // the same for any footprint, built once per heightfield
-    // Whether make_bsdf answers one footprint from its images although the method has a point
-    // field: a field that only evaluates (no sampler) and answers the continuous lobe where the
-    // images integrate over pixels serves one-off footprints (renderers, BsdfField), while a
-    // footprint's own Bsdf keeps the images' eval, sampler and pdf.
+    // Whether make_bsdf answers one footprint with `point` (or, without it, its images) although
+    // the method has a point field: a field that only evaluates (no sampler), or answers the
+    // continuous lobe where the images integrate over pixels, serves one-off footprints (renderers,
+    // BsdfField), while a footprint's own Bsdf keeps its own eval, sampler and pdf.
     bool bsdf_from_images = false;
 };
 

@@ -5,6 +5,7 @@
 #include "methods/dk/kirchhoff_distribution.hpp"
 #include "methods/fft/fft_lobe.hpp"
 #include "methods/filtered/filtered_ndf.hpp"
+#include "methods/fitted/fitted_lobe.hpp"
 #include "methods/gabor/gabor.hpp"
 #include "methods/geometric/geometric_lobe.hpp"
 #include "methods/pndf/pndf.hpp"
@@ -22,6 +23,7 @@ const std::vector<MethodEntry>& method_table() {
         geometric_method(),
         dk_method(),
         discrete_method(),
+        fitted_method(),
     };
     return table;
 }

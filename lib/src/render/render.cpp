@@ -77,6 +77,31 @@ CameraFrame camera_frame(const PinholeCamera& camera) {
     return frame;
 }
 
+// The ray through image point p (pixels), unnormalised: forward + s_x right + s_y up, s on the
+// image plane at distance 1.
+Vec3 image_direction(const CameraFrame& frame, int width, int height, Point2 p) {
+    const double sx = (2.0 * p.x / width - 1.0) * frame.tan_half_width;
+    const double sy = (1.0 - 2.0 * p.y / height) * frame.tan_half_height;
+    return frame.forward + sx * frame.right + sy * frame.up;
+}
+
+// A pixel's side on the image plane at distance 1 (square pixels).
+double pixel_side(const CameraFrame& frame, int height) { return 2.0 * frame.tan_half_height / height; }
+
+// The Gaussian of a square of `side` (image-plane units) about the ray `direction` on z = 0: the
+// hit x = o + t d, t = −o_z/d_z, moves with the image-plane point s by
+// ∂x/∂s = t (∂d/∂s − (∂d_z/∂s / d_z) d), ∂d/∂s = right or up; the box's covariance side²/12 per
+// axis carried through these columns of J, then its principal axes.
+SurfaceFootprint footprint_on_plane(const CameraFrame& frame, Vec3 direction, double side) {
+    const double t = -frame.origin.z / direction.z;
+    const auto column = [&](Vec3 along) { return (side * t) * (along - (along.z / direction.z) * direction); };
+    const Vec3 a = column(frame.right), b = column(frame.up);
+    const double xx = (a.x * a.x + b.x * b.x) / 12.0, yy = (a.y * a.y + b.y * b.y) / 12.0;
+    const double xy = (a.x * a.y + b.x * b.y) / 12.0;
+    const double mean = 0.5 * (xx + yy), spread = std::hypot(0.5 * (xx - yy), xy);
+    return {std::sqrt(mean + spread), std::sqrt(std::max(0.0, mean - spread))};
+}
+
 // x modulo period, in [0, period).
 double wrap(double x, double period) {
     const double r = std::fmod(x, period);
@@ -100,18 +125,17 @@ struct SceneGeometry {
 
     // Sub-pixel (a, b) of pixel (row, col): at ((col + (a + ½)/n), (row + (b + ½)/n)) in pixel units.
     ShadingPoint at(int row, int col, int b, int a) const {
-        const double px = col + (a + 0.5) / per_axis, py = row + (b + 0.5) / per_axis;
-        const double sx = (2.0 * px / width - 1.0) * frame.tan_half_width;
-        const double sy = (1.0 - 2.0 * py / height) * frame.tan_half_height;
-        const Vec3 ray = normalize(frame.forward + sx * frame.right + sy * frame.up);
+        const Point2 image_point{col + (a + 0.5) / per_axis, row + (b + 0.5) / per_axis};
+        const Vec3 direction = image_direction(frame, width, height, image_point);
         ShadingPoint point;
-        if (!(ray.z < 0.0)) return point;
-        const Vec3 x = frame.origin + (-frame.origin.z / ray.z) * ray;
+        if (!(direction.z < 0.0)) return point;
+        const Vec3 x = frame.origin + (-frame.origin.z / direction.z) * direction;
         if (std::fabs(x.x) > half_patch || std::fabs(x.y) > half_patch) return point;
         point.hit = true;
         point.position_um = {x.x, x.y, 0.0};
         point.heightfield_um = {wrap(x.x + half_patch, period_x), wrap(x.y + half_patch, period_y)};
         point.omega_o = normalize(frame.origin - point.position_um);
+        point.cell = footprint_on_plane(frame, direction, pixel_side(frame, height) / per_axis);
         return point;
     }
 };
@@ -133,6 +157,10 @@ Provenance render_metadata(const Scene& scene, const RenderSettings& settings) {
     metadata["render.lights_um_w_per_sr"] = lights_text(scene.lights);
     metadata["render.light_spectrum"] = to_string(scene.light_spectrum);
     metadata["render.spp"] = std::to_string(settings.samples_per_pixel);
+    metadata["render.footprint"] = renders_pixel_footprint(scene.method)
+                                       ? "pixel: each shading point's cell on the patch, as the isotropic Gaussian of "
+                                         "its area (sigma_c recorded per query is not used)"
+                                       : "coherence: the query's footprint centred at each shading point";
     metadata["render.units"] = "radiance W m^-2 sr^-1 per wavelength (direct light from point lights)";
     return metadata;
 }
@@ -164,6 +192,9 @@ void validate(const Scene& scene, const RenderSettings& settings) {
     if (!scene.query.field->periodic)
         throw Error("the patch tiles the heightfield, which is not periodic: its seams would show (load it as periodic, "
                     "or prepare a periodic crop)");
+    if (renders_pixel_footprint(scene.method) && scene.query.footprint.shape != FootprintShape::gaussian)
+        throw Error("a " + scene.method + " render sees each pixel's footprint on the patch (a Gaussian), not a box or "
+                    "the whole field");
     LobeQuery query = scene.query;
     query.quantity = Quantity::brdf;
     query.supersample = 1;
@@ -176,6 +207,37 @@ std::vector<ShadingPoint> shading_points(const Scene& scene, const RenderSetting
     for (int b = 0; b < geometry.per_axis; ++b)
         for (int a = 0; a < geometry.per_axis; ++a) points.push_back(geometry.at(row, col, b, a));
     return points;
+}
+
+double SurfaceFootprint::equal_area_sigma_um() const { return std::sqrt(major_um * minor_um); }
+
+SurfaceFootprint image_footprint(const PinholeCamera& camera, Point2 image_point, double side_pixels) {
+    const CameraFrame frame = camera_frame(camera);
+    const Vec3 direction = image_direction(frame, camera.width, camera.height, image_point);
+    if (!(direction.z < 0.0) || !(camera.position_um.z > 0.0))
+        throw Error("image point " + shortest_text(image_point.x) + "," + shortest_text(image_point.y) +
+                    " does not see the patch's plane");
+    return footprint_on_plane(frame, direction, side_pixels * pixel_side(frame, camera.height));
+}
+
+bool renders_pixel_footprint(const std::string& method) { return !lobe_method(method).wave_optics; }
+
+namespace {
+
+Footprint footprint_at(const Scene& scene, const ShadingPoint& point, bool pixel_footprint) {
+    Footprint footprint = scene.query.footprint;
+    footprint.centre_um = point.heightfield_um;
+    if (pixel_footprint) {
+        footprint.shape = FootprintShape::gaussian;
+        footprint.sigma_um = std::sqrt(2.0) * point.cell.equal_area_sigma_um();  // weight σ = σ_c/√2
+    }
+    return footprint;
+}
+
+}  // namespace
+
+Footprint shading_footprint(const Scene& scene, const ShadingPoint& point) {
+    return footprint_at(scene, point, renders_pixel_footprint(scene.method));
 }
 
 LightArrival light_arrival(const PointLight& light, Vec3 position_um) {
@@ -283,6 +345,7 @@ RenderImage render_with(const Scene& scene, const BsdfField& field, const Render
     image.metadata = render_metadata(scene, settings);
 
     const int spp = settings.samples_per_pixel;
+    const bool pixel_footprint = renders_pixel_footprint(scene.method);
     std::atomic<std::size_t> rows_done{0};
     std::mutex progress_mutex;
     parallel_for(std::size_t(image.height), 1, [&](std::size_t begin, std::size_t end) {
@@ -294,9 +357,7 @@ RenderImage render_with(const Scene& scene, const BsdfField& field, const Render
                     for (int a = 0; a < geometry.per_axis; ++a) {
                         const ShadingPoint point = geometry.at(row, col, b, a);
                         if (!point.hit) continue;
-                        Footprint footprint = scene.query.footprint;
-                        footprint.centre_um = point.heightfield_um;
-                        const Bsdf bsdf = field.at(footprint);
+                        const Bsdf bsdf = field.at(footprint_at(scene, point, pixel_footprint));
                         for (const PointLight& light : scene.lights) {
                             const LightArrival arrival = light_arrival(light, point.position_um);
                             if (arrival.irradiance == 0.0) continue;

@@ -12,6 +12,9 @@
 namespace glintscope {
 namespace {
 
+constexpr int kSheetGap = 2;                  // pixels between a contact sheet's frames
+constexpr std::uint8_t kSheetGapGrey = 96;    // display value of the gaps
+
 void check_image(const RenderImage& image) {
     if (image.width < 1 || image.height < 1 || image.wavelengths_um.empty() ||
         image.values.size() != image.pixels() * image.wavelengths_um.size())
@@ -97,20 +100,27 @@ DisplayExposure write_sweep_pngs(const std::vector<RenderImage>& frames, const s
     const int width = frames[0].width, height = frames[0].height;
     const int columns = static_cast<int>(std::ceil(std::sqrt(double(frames.size()))));
     const int rows = static_cast<int>((frames.size() + columns - 1) / columns);
-    std::vector<std::uint8_t> sheet(std::size_t(columns) * width * rows * height * 3, 0);
-    for (std::size_t k = 0; k < frames.size(); ++k) {
-        write_render_png(frames[k], frame_paths[k], fixed);
-        const std::vector<std::uint8_t> pixels = xyz_to_display(std::move(xyz[k]), exposure, colour);
-        const std::size_t left = (k % columns) * std::size_t(width), top = (k / columns) * std::size_t(height);
+    // Frames of glints are mostly black: grey gaps keep their edges apart; a tile without a frame is black.
+    const int sheet_width = columns * width + (columns - 1) * kSheetGap, sheet_height = rows * height + (rows - 1) * kSheetGap;
+    std::vector<std::uint8_t> sheet(std::size_t(sheet_width) * sheet_height * 3, kSheetGapGrey);
+    for (std::size_t k = 0; k < std::size_t(columns) * rows; ++k) {
+        std::vector<std::uint8_t> pixels(std::size_t(width) * height * 3, 0);
+        if (k < frames.size()) {
+            write_render_png(frames[k], frame_paths[k], fixed);
+            pixels = xyz_to_display(std::move(xyz[k]), exposure, colour);
+        }
+        const std::size_t left = (k % columns) * std::size_t(width + kSheetGap);
+        const std::size_t top = (k / columns) * std::size_t(height + kSheetGap);
         for (int row = 0; row < height; ++row)
             std::copy_n(pixels.begin() + std::size_t(row) * width * 3, std::size_t(width) * 3,
-                        sheet.begin() + ((top + row) * std::size_t(columns) * width + left) * 3);
+                        sheet.begin() + ((top + row) * std::size_t(sheet_width) + left) * 3);
     }
-    OIIO::ImageSpec spec(columns * width, rows * height, 3, OIIO::TypeDesc::UINT8);
+    OIIO::ImageSpec spec(sheet_width, sheet_height, 3, OIIO::TypeDesc::UINT8);
     add_attributes(spec, frames[0].metadata);
     Provenance facts = output_facts(frames[0], colour, "display-referred " + colour.display_space);
     facts["output.image"] = "light sweep contact sheet: " + std::to_string(frames.size()) + " frames, " +
-                            std::to_string(columns) + " per row, row-major";
+                            std::to_string(columns) + " per row, row-major, " + std::to_string(kSheetGap) +
+                            "-pixel grey gaps";
     facts["output.exposure_ev"] = shortest_text(exposure.ev);
     facts["output.exposure_rule"] = exposure.rule + ", one for every frame";
     add_attributes(spec, facts);

@@ -12,8 +12,11 @@
 
 #include "glintscope/bsdf/bsdf.hpp"
 #include "glintscope/core/error.hpp"
+#include "glintscope/fit/ndf_fit.hpp"
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/optics/diffraction_model.hpp"
+#include "glintscope/optics/material.hpp"
+#include "glintscope/pipeline/pipeline.hpp"
 #include "glintscope/render/render.hpp"
 
 namespace glintscope {
@@ -251,6 +254,10 @@ TEST(Render, BadScenesAreRefusedInOneLine) {
     set_heightfield(s.query, scan);
     expect_refused(s, settings, "not periodic");
     s = good;
+    s.method = "geometric";
+    set_box(s.query.footprint, "70um");
+    expect_refused(s, settings, "not a box");
+    s = good;
     s.query.wavelengths_um = {-0.5};
     EXPECT_THROW(validate(s, settings), Error);
 }
@@ -308,6 +315,259 @@ TEST(Render, ALightSweepMovesTheMirrorHighlightToEachFramesClosedFormPoint) {
     EXPECT_THROW(light_sweep(scene, 1, 3000.0), Error);
     EXPECT_THROW(light_sweep(scene, 3, -1.0), Error);
     EXPECT_THROW(light_sweep(scene, 3, std::numeric_limits<double>::infinity()), Error);
+}
+
+}  // namespace
+}  // namespace glintscope
+
+namespace glintscope {
+namespace {
+
+// Where the camera's ray through image point p (pixels, render.hpp's conventions) meets z = 0.
+Vec3 unproject(const PinholeCamera& camera, Point2 p) {
+    const Vec3 forward = normalize(camera.look_at_um - camera.position_um);
+    const Vec3 right = normalize(cross(forward, {0.0, 0.0, 1.0}));
+    const Vec3 up = cross(right, forward);
+    const double tan_half = std::tan(0.5 * camera.vertical_fov_degrees * pi / 180.0);
+    const double sx = (2.0 * p.x / camera.width - 1.0) * tan_half * camera.width / camera.height;
+    const double sy = (1.0 - 2.0 * p.y / camera.height) * tan_half;
+    const Vec3 d = forward + sx * right + sy * up;
+    return camera.position_um + (-camera.position_um.z / d.z) * d;
+}
+
+// A geometric render sees each pixel's footprint on the patch (Yan 2014/2016), as a Gaussian: its
+// box filter's covariance through the camera, whose determinant is (area/12)² for the pixel's
+// quadrilateral on the patch, foreshortened by 1/cos 45° along the view at the Patch scene's
+// centre, and half as wide in an image of twice the size.
+TEST(Render, APixelsFootprintIsItsQuadrilateralOnThePatchAndHalvesWhenTheImageDoubles) {
+    PinholeCamera camera;  // the Patch scene's: 10 cm away, 45° elevation
+    camera.width = 64;
+    camera.height = 36;
+    const SurfaceFootprint centre = image_footprint(camera, {32.0, 18.0}, 1.0);
+    EXPECT_NEAR(centre.major_um / centre.minor_um, std::sqrt(2.0), 1e-9);
+    EXPECT_NEAR(centre.minor_um, 1e5 * 2.0 * std::tan(15.0 * pi / 180.0) / 36.0 / std::sqrt(12.0), 1e-9 * centre.minor_um);
+    PinholeCamera twice = camera;
+    twice.width = 128;
+    twice.height = 72;
+    for (const Point2 p : {Point2{32.0, 18.0}, {5.5, 3.5}, {60.5, 30.5}, {40.25, 2.0}}) {
+        const SurfaceFootprint one = image_footprint(camera, p, 1.0);
+        const Vec3 a = unproject(camera, {p.x - 0.5, p.y - 0.5}), b = unproject(camera, {p.x + 0.5, p.y - 0.5});
+        const Vec3 c = unproject(camera, {p.x + 0.5, p.y + 0.5}), d = unproject(camera, {p.x - 0.5, p.y + 0.5});
+        const double area = 0.5 * std::fabs(cross(c - a, d - b).z);  // a quadrilateral: half its diagonals' cross product
+        EXPECT_NEAR(12.0 * one.major_um * one.minor_um, area, 1e-3 * area) << p.x << "," << p.y;
+        const SurfaceFootprint half = image_footprint(twice, {2.0 * p.x, 2.0 * p.y}, 1.0);
+        EXPECT_NEAR(half.major_um, 0.5 * one.major_um, 1e-9 * one.major_um);
+        EXPECT_NEAR(half.minor_um, 0.5 * one.minor_um, 1e-9 * one.minor_um);
+    }
+    // Shading points carry their cell's footprint (half a pixel per side at 2 × 2), and a
+    // geometric method evaluates the Gaussian of its area; a wave method its coherence footprint.
+    Scene scene;
+    set_heightfield(scene.query, plane_field(64, 64, 1.0, 0.0));
+    scene.camera = camera;
+    const ShadingPoint point = shading_points(scene, RenderSettings{4, 0}, 20, 30).at(3);
+    const SurfaceFootprint cell = image_footprint(camera, {30.75, 20.75}, 0.5);
+    EXPECT_DOUBLE_EQ(point.cell.major_um, cell.major_um);
+    EXPECT_DOUBLE_EQ(point.cell.minor_um, cell.minor_um);
+    scene.method = "geometric";
+    EXPECT_DOUBLE_EQ(shading_footprint(scene, point).sigma_um, std::sqrt(2.0 * cell.major_um * cell.minor_um));
+    scene.method = "gabor";
+    EXPECT_EQ(shading_footprint(scene, point).sigma_um, scene.query.footprint.sigma_um);
+}
+
+// A flat mirror rendered geometrically with intrinsic roughness σ (a point light needs it: the
+// P-NDF of a flat footprint is a spike): the camera's irradiance over the image,
+// Σ L Ω cosθ (Ω = p² cos³θ a pixel's solid angle, θ from the axis), is what the light's mirror
+// image sends it, F I / d² with d the path camera → mirror point → light, and F the material's
+// Fresnel reflectance at the mirror point: the render neither creates nor loses reflected power.
+TEST(Render, AGeometricFlatMirrorSendsTheCameraTheLightsMirrorImageTimesFresnel) {
+    Scene scene;
+    set_heightfield(scene.query, plane_field(16, 16, 16.0, 0.0));
+    scene.method = "geometric";
+    scene.query.wavelengths_um = {0.5};
+    scene.query.material.name = "Al";
+    scene.query.method_options["intrinsic_roughness"] = "0.01";
+    scene.patch_um = 40000.0;
+    scene.camera.position_um = {-30000.0, 0.0, 30000.0};
+    scene.camera.vertical_fov_degrees = 10.0;
+    scene.camera.width = scene.camera.height = 72;
+    scene.lights = {PointLight{{30000.0, 0.0, 40000.0}, 2.0}};
+    const Vec3 camera = scene.camera.position_um, light = scene.lights[0].position_um;
+    const Vec3 mirror_point = camera + (camera.z / (camera.z + light.z)) * (Vec3{light.x, light.y, -light.z} - camera);
+    scene.camera.look_at_um = mirror_point;
+    const RenderImage image = render(scene, RenderSettings{1, 0});
+    const double p = 2.0 * std::tan(5.0 * pi / 180.0) / 72.0;
+    double irradiance = 0.0, edge = 0.0, peak = 0.0;
+    for (int row = 0; row < 72; ++row)
+        for (int col = 0; col < 72; ++col) {
+            const double sx = (col + 0.5 - 36.0) * p, sy = (36.0 - row - 0.5) * p;
+            const double cos_axis = 1.0 / std::sqrt(1.0 + sx * sx + sy * sy);
+            const double value = image.at(0, row, col);
+            irradiance += value * p * p * std::pow(cos_axis, 4);
+            peak = std::max(peak, value);
+            if (row == 0 || col == 0 || row == 71 || col == 71) edge = std::max(edge, value);
+        }
+    EXPECT_LT(edge, 1e-6 * peak);  // the whole highlight is in the image
+    const double d = length(light - mirror_point) + length(camera - mirror_point);
+    const double cos_i = (light.z - 0.0) / length(light - mirror_point);
+    const double fresnel = fresnel_conductor(complex_refractive_index("Al", 0.5), cos_i);
+    const double expected = fresnel * 2.0 / (d * d * 1e-12);
+    EXPECT_NEAR(irradiance, expected, 2e-3 * expected) << "F = " << fresnel;
+}
+
+// A geometric pixel is the mean over its shading points of the method's BSDF field at the
+// Gaussian of the cell's footprint (computed here from image_footprint), times the irradiance.
+TEST(Render, AGeometricPixelIsTheFieldsBsdfAtItsCellsFootprint) {
+    static const Heightfield field = generate_builtin("isotropic");
+    Scene scene;
+    set_heightfield(scene.query, field);
+    scene.method = "geometric";
+    scene.query.wavelengths_um = {0.5};
+    scene.camera.width = 12;
+    scene.camera.height = 8;
+    scene.camera.vertical_fov_degrees = 0.4;  // 50 um pixels about the patch's centre, the highlight
+    const RenderSettings settings{4, 0};
+    const RenderImage image = render(scene, settings);
+    LobeQuery query = scene.query;
+    const BsdfField bsdfs = make_bsdf_field("geometric", query);
+    int lit = 0;
+    for (int row = 0; row < 8; ++row)
+        for (int col = 0; col < 12; ++col) {
+            double expected = 0.0;
+            const std::vector<ShadingPoint> points = shading_points(scene, settings, row, col);
+            for (int k = 0; k < 4; ++k) {
+                const ShadingPoint& point = points[k];
+                const SurfaceFootprint cell = image_footprint(scene.camera, {col + 0.25 + 0.5 * (k % 2), row + 0.25 + 0.5 * (k / 2)}, 0.5);
+                Footprint footprint;
+                footprint.centre_um = point.heightfield_um;
+                footprint.sigma_um = std::sqrt(2.0) * cell.equal_area_sigma_um();
+                const LightArrival arrival = light_arrival(scene.lights[0], point.position_um);
+                expected += bsdfs.at(footprint).eval(arrival.omega_i, point.omega_o)[0] * arrival.irradiance / 4.0;
+            }
+            EXPECT_NEAR(image.at(0, row, col), expected, 1e-6 * expected) << row << "," << col;
+            lit += expected > 0.0;
+        }
+    EXPECT_GT(lit, 20);
+}
+
+// A Gaussian random field, 128² at 1 µm (period 128 µm), Gaussian correlation of 5 µm and rms
+// height 0.6 µm: Gaussian slopes of rms 0.17 per axis.
+Heightfield gaussian_surface() {
+    Recipe recipe;
+    recipe.kind = "gaussian";
+    recipe.grid = {128, 128, 1.0};
+    recipe.gaussian.sigma_h_um = 0.6;
+    recipe.gaussian.correlation_length_x_um = recipe.gaussian.correlation_length_y_um = 5.0;
+    return generate(recipe);
+}
+
+// The smooth baseline (method fitted) renders the closed-form microfacet BRDF F D / (4 cosθ_i cosθ_o)
+// of the Beckmann model fitted to the whole field's P-NDF (fitted here from pndf's image) times
+// each pixel's irradiance: a highlight without glints to compare glint renders with.
+TEST(Render, TheFittedBaselineIsTheClosedFormMicrofacetBrdfTimesTheIrradiance) {
+    Scene scene;
+    set_heightfield(scene.query, gaussian_surface());
+    scene.method = "fitted";
+    scene.query.wavelengths_um = {0.5};
+    scene.query.material.name = "Al";
+    scene.camera.width = 24;
+    scene.camera.height = 14;
+    const RenderSettings settings{1, 0};
+    const RenderImage image = render(scene, settings);
+    LobeQuery ndf_query = scene.query;
+    ndf_query.quantity = Quantity::ndf;
+    ndf_query.footprint.shape = FootprintShape::whole;
+    ndf_query.resolution = 128;
+    ndf_query.material = {};
+    const EllipsoidNdf alpha = fit_ndf(compute_lobe("pndf", ndf_query), NdfModelKind::beckmann).model.parameters;
+    for (const auto& [row, col] : {std::pair{7, 12}, {5, 9}, {12, 10}, {9, 15}}) {
+        const ShadingPoint point = shading_points(scene, settings, row, col).at(0);
+        ASSERT_TRUE(point.hit);
+        const LightArrival arrival = light_arrival(scene.lights[0], point.position_um);
+        const Vec3 h = normalize(arrival.omega_i + point.omega_o);
+        const double fresnel = fresnel_conductor(complex_refractive_index("Al", 0.5), dot(arrival.omega_i, h));
+        const double expected = fresnel * beckmann_ndf(alpha.alpha_x, alpha.alpha_y, h) /
+                                (4.0 * arrival.omega_i.z * point.omega_o.z) * arrival.irradiance;  // Dong 2015 eq. 1
+        EXPECT_NEAR(image.at(0, row, col), expected, 1e-5 * expected) << row << "," << col;
+        EXPECT_GT(expected, 0.0);
+    }
+}
+
+// A camera 10 m straight above the patch, its image exactly the patch: pixels are squares of
+// side patch/size on it, and ω_o is the normal to within side/10 m.
+Scene overhead_scene(double patch_um, int size) {
+    Scene scene;
+    scene.patch_um = patch_um;
+    scene.camera.position_um = {0.0, 0.0, 1e7};
+    scene.camera.look_at_um = {0.0, 0.0, 0.0};
+    scene.camera.vertical_fov_degrees = 2.0 * std::atan(0.5 * patch_um / 1e7) * 180.0 / pi;
+    scene.camera.width = scene.camera.height = size;
+    return scene;
+}
+
+// Averages: a rough surface (4.3 × 4.3 periods) lit by a distant light and seen by a distant
+// camera: the mean of the geometric render over the region, whose pixels see the P-NDFs of their
+// own footprints (glints), equals the render with the footprint-averaged lobe, the whole field's
+// (every point of a period weighs the same), E f_r(ω_i, ω_o; whole) per pixel (2%). A P-NDF at a
+// single h is dominated by the few points near its caustics (their 1/|det| weights have no finite
+// variance), so the intrinsic roughness 0.01 makes each pixel's D an average over nearby h.
+TEST(Render, TheMeanOfAGeometricRenderOverARoughRegionIsTheRenderOfTheMeanLobe) {
+    Scene scene = overhead_scene(550.0, 32);
+    set_heightfield(scene.query, gaussian_surface());
+    scene.method = "geometric";
+    scene.query.wavelengths_um = {0.5};
+    scene.query.method_options["intrinsic_roughness"] = "0.01";
+    scene.lights = {PointLight{{0.25 * 1e7, 0.1 * 1e7, 1e7}, 1.0}};  // ω_i about 15° from the normal
+    const RenderSettings settings{1, 0};
+    const RenderImage image = render(scene, settings);
+    LobeQuery query = scene.query;
+    const BsdfField field = make_bsdf_field("geometric", query);
+    Footprint whole;
+    whole.shape = FootprintShape::whole;
+    const Bsdf mean_lobe = field.at(whole);
+    // Both distances are 10 m: ω_i and ω_o vary by 3e-5 rad over the region, a thousandth of the
+    // intrinsic roughness, so the mean lobe is taken at the centre's directions.
+    const ShadingPoint centre = shading_points(scene, RenderSettings{1, 0}, 16, 16).at(0);
+    const double f_mean = mean_lobe.eval(light_arrival(scene.lights[0], centre.position_um).omega_i, centre.omega_o)[0];
+    double rendered = 0.0, expected = 0.0, brightest = 0.0, faintest = INFINITY;
+    for (int row = 0; row < 32; ++row)
+        for (int col = 0; col < 32; ++col) {
+            const ShadingPoint point = shading_points(scene, RenderSettings{1, 0}, row, col).at(0);
+            expected += f_mean * light_arrival(scene.lights[0], point.position_um).irradiance;
+            rendered += image.at(0, row, col);
+            brightest = std::max(brightest, double(image.at(0, row, col)));
+            faintest = std::min(faintest, double(image.at(0, row, col)));
+        }
+    EXPECT_GT(brightest, 2.0 * faintest);  // glints: the pixels differ, their mean does not
+    EXPECT_NEAR(rendered, expected, 0.02 * expected);  // measured 0.5%
+}
+
+// Energy: a light 2 mm above a 60 mm patch seen from 10 m straight above. By reciprocity
+// (f_r(ω_i, ω_o) = f_r(ω_o, ω_i)) and dω_i = cosθ_i dA / r² as seen from the light,
+// ∫ L cosθ_i dA = I ∫ f_r(ω_i, ω_o) cosθ_i dω_i = I · albedo(ω_o): the render sends the camera what
+// the BSDF's albedo says, for the smooth baseline with aluminium's F (the patch spans θ_i up to
+// 86°; the lobe beyond holds under 1e-6 of the albedo).
+TEST(Render, ARenderReflectsTheLightAsTheBsdfsAlbedoSays) {
+    constexpr double patch = 60000.0, height = 2000.0;
+    constexpr int size = 240;
+    Scene scene = overhead_scene(patch, size);
+    set_heightfield(scene.query, gaussian_surface());
+    scene.method = "fitted";
+    scene.query.wavelengths_um = {0.5};
+    scene.query.material.name = "Al";
+    scene.lights = {PointLight{{0.0, 0.0, height}, 3.0}};
+    const RenderImage image = render(scene, RenderSettings{16, 0});
+    const double side = patch / size;
+    double integral = 0.0;  // ∫ L cosθ_i dA in W/sr (dA in m²)
+    for (int row = 0; row < size; ++row)
+        for (int col = 0; col < size; ++col) {
+            const Vec3 x{(col + 0.5) * side - 0.5 * patch, 0.5 * patch - (row + 0.5) * side, 0.0};
+            const double cos_i = height / length(scene.lights[0].position_um - x);
+            integral += image.at(0, row, col) * cos_i * side * side * 1e-12;
+        }
+    const Vec3 omega_o{0.0, 0.0, 1.0};
+    const double albedo = make_bsdf("fitted", scene.query).albedo(omega_o)[0];
+    EXPECT_GT(albedo, 0.85);  // aluminium's F near normal incidence
+    EXPECT_NEAR(integral, 3.0 * albedo, 0.01 * 3.0 * albedo);
 }
 
 }  // namespace

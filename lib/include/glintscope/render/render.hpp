@@ -77,15 +77,45 @@ void validate(const Scene& scene, const RenderSettings& settings);
 // check before loading the heightfield.
 void validate_view(const Scene& scene, const RenderSettings& settings);
 
+// A square of the image seen on the patch, as a Gaussian: the square's box filter (covariance
+// 1/12 of its side² per axis) carried to the plane z = 0 through the camera (the Jacobian J of the
+// map from image to plane at the square's centre) has the covariance J diag(1/12, 1/12) Jᵀ side²,
+// an ellipse whose principal standard deviations are major and minor (µm).
+struct SurfaceFootprint {
+    double major_um = 0.0;
+    double minor_um = 0.0;
+    // The isotropic Gaussian of the same area (determinant): what a P-NDF query weighs with.
+    double equal_area_sigma_um() const;
+};
+// The footprint of the square of `side_pixels` centred at image point (x along columns from the
+// left edge, y down rows from the top, in pixels). Throws Error if the point sees no plane.
+SurfaceFootprint image_footprint(const PinholeCamera& camera, Point2 image_point, double side_pixels);
+
 // One shading point of a pixel: where its camera ray meets the patch, the footprint's centre on
-// the heightfield, and ω_o toward the camera. `hit` false: the ray misses the patch.
+// the heightfield, ω_o toward the camera, and the footprint of its cell of the pixel (1/n of the
+// pixel per side at n × n points) on the patch. `hit` false: the ray misses the patch.
 struct ShadingPoint {
     bool hit = false;
     Vec3 position_um;
     Point2 heightfield_um;
     Vec3 omega_o;
+    SurfaceFootprint cell;
 };
 std::vector<ShadingPoint> shading_points(const Scene& scene, const RenderSettings& settings, int row, int col);
+
+// Whether the scene's method sees the pixel's footprint rather than the coherence footprint: a
+// geometric method (not MethodInfo::wave_optics) renders the P-NDF of the pixel's footprint on the
+// surface (Yan 2014/2016), the light's coherence being a wave effect.
+bool renders_pixel_footprint(const std::string& method);
+
+// The footprint whose BSDF a shading point evaluates. A wave method: the query's coherence
+// footprint centred at the point (Yan 2018 §3.1). A geometric method: the Gaussian whose surface
+// weight |w|²/A_c (conventions.md, a normalised Gaussian of σ_c/√2) is the isotropic Gaussian of
+// the same area as the cell's footprint (σ_c = √2 · equal_area_sigma), centred at the point. A
+// point light subtends no solid angle, so the P-NDF's spikes are smoothed only by the method's
+// option intrinsic_roughness (Yan 2014's intrinsic roughness; 0: a flat region's D is a spike,
+// black away from exact reflection).
+Footprint shading_footprint(const Scene& scene, const ShadingPoint& point);
 
 // Irradiance E = I cosθ_i / r² (W/m²) from a light at a shading point, and ω_i toward the light.
 struct LightArrival {

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "normal_density/microfacet_answers.hpp"
 #include "normal_density/normal_density.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/optics/material.hpp"
@@ -246,26 +247,53 @@ LobeImage discrete_lobe(const LobeQuery& query) {
     return image;
 }
 
-// The BRDF of one footprint for single directions: eval is the image's pixel at ω_o (the flakes
-// reflecting ω_i into the cone of γ about ω_o, Jakob 2014 eq. 5 and 8, counted by Algorithm 1),
-// and the sampler is Jakob 2014 §3.4's (flake_sampling.hpp).
+// f_r(ω_i, ω_o) of the flakes in `flakes`: those reflecting ω_i into the cone of γ about ω_o
+// (Jakob 2014 eq. 8, counted by Algorithm 1), by eq. 5 with that footprint's area (pixel
+// queries' scale is per the setup's footprint area, hence the ratio), F per wavelength.
+std::function<std::vector<double>(Vec3, Vec3)> counting_eval(std::shared_ptr<const DiscreteSetup> setup,
+                                                            std::vector<ComplexIndex> indices, std::size_t layers,
+                                                            FlakeFootprint flakes) {
+    const double area_ratio = setup->footprint.area_um2() / flakes.area_um2();
+    return [setup, indices, layers, flakes, area_ratio](Vec3 omega_i, Vec3 omega_o) {
+        const PixelQuery pixel = lobe_pixel_query(*setup, omega_i, omega_o);
+        const FlakeCount count = count_flakes(setup->material, flakes, pixel.conic, setup->epsilon);
+        std::vector<double> f(layers, pixel.scale * area_ratio * count.weighted);
+        for (std::size_t l = 0; l < indices.size(); ++l) f[l] *= fresnel_conductor(indices[l], dot(omega_i, pixel.h));
+        return f;
+    };
+}
+
+// The BRDF of one footprint for single directions: eval is the image's pixel at ω_o, and the
+// sampler is Jakob 2014 §3.4's (flake_sampling.hpp).
 PointAnswers discrete_point(const LobeQuery& query) {
     auto setup = std::make_shared<DiscreteSetup>();  // shared, so material.normals stays valid
     setup_discrete(query, *setup);
-    const std::vector<ComplexIndex> eta = lobe_refractive_indices(query);
-    const std::size_t layers = query.wavelengths_um.size();
     auto sampler = std::make_shared<const FlakeSampler>(setup->sampler, setup->cone);
     PointAnswers answers;
-    answers.eval = [setup, eta, layers](Vec3 omega_i, Vec3 omega_o) {
-        const PixelQuery q = lobe_pixel_query(*setup, omega_i, omega_o);
-        const double value = q.scale * count_flakes(setup->material, setup->footprint, q.conic, setup->epsilon).weighted;
-        std::vector<double> f(layers, value);
-        for (std::size_t l = 0; l < eta.size(); ++l) f[l] *= fresnel_conductor(eta[l], dot(omega_i, q.h));
-        return f;
-    };
+    answers.eval = counting_eval(setup, lobe_refractive_indices(query), query.wavelengths_um.size(), setup->footprint);
     answers.sample = [sampler](Vec3 omega_i, double u1, double u2) { return sampler->sample(omega_i, u1, u2); };
     answers.pdf = [sampler](Vec3 omega_i, Vec3 omega_o) { return sampler->pdf(omega_i, omega_o); };
     return answers;
+}
+
+// Jakob 2014's query for any footprint of a renderer's shading points: the flakes weighted by the
+// footprint's Gaussian (σ = σ_c). The flakes themselves (tile, density, eq. 11's split sizes) are
+// fixed once by the query's own footprint, so every footprint sees the same flakes.
+// distribution=pndf is the P-NDF of the query's footprint alone, and a box or the whole field
+// is not a Gaussian: those are answered from the images.
+PointAnswersAt discrete_point_field(const LobeQuery& query) {
+    auto setup = std::make_shared<DiscreteSetup>();  // its material points into its own integrals: never moved
+    setup_discrete(query, *setup);
+    if (method_option_text(query, "distribution", "beckmann") == "pndf" || query.quantity != Quantity::brdf)
+        return [](const Footprint&) { return PointAnswers{}; };
+    const std::size_t layers = query.wavelengths_um.size();
+    const std::vector<ComplexIndex> indices = lobe_refractive_indices(query);
+    return [setup, layers, indices](const Footprint& footprint) -> PointAnswers {
+        if (footprint.shape != FootprintShape::gaussian) return {};
+        PointAnswers answers;
+        answers.eval = counting_eval(setup, indices, layers, flake_footprint(footprint));
+        return answers;
+    };
 }
 
 }  // namespace
@@ -293,6 +321,8 @@ MethodEntry discrete_method() {
     };
     entry.compute = discrete_lobe;
     entry.point = discrete_point;
+    entry.point_field = discrete_point_field;
+    entry.bsdf_from_images = true;  // a footprint's own Bsdf keeps its counting eval and Jakob's sampler
     return entry;
 }
 
