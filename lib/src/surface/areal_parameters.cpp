@@ -137,8 +137,8 @@ RayDecay decay_along(const Autocorrelation& acf, double theta, double dx, double
     return decay;
 }
 
-void spatial_parameters(const Heightfield& field, double mean, double dx, double dy, ArealParameters& p) {
-    const Autocorrelation acf(field, mean);
+void spatial_parameters(const Heightfield& field, const ValidHeights& valid, double dx, double dy, ArealParameters& p) {
+    const Autocorrelation acf(field, valid);
     p.max_lag_x_um = acf.max_col_lag() * dx;
     p.max_lag_y_um = acf.max_row_lag() * dy;
     std::vector<RayDecay> rays(kDirections);
@@ -267,11 +267,10 @@ ArealParameters compute_areal_parameters(const Heightfield& field, double thresh
     if (!periodic && (field.rows < 3 || field.cols < 3))
         throw Error("areal parameters need at least 3 x 3 samples (slopes need both neighbours)");
     const double dx = field.texel_um, dy = field.texel_um;
-    const double mean = mean_height(field, "areal parameters");
+    const ValidHeights valid = valid_heights(field, "areal parameters");
+    const double mean = valid.mean;
     const Deviations d = deviations(field, mean, dx, dy);
-    std::size_t valid = 0;
-    for (float h : field.heights_um) valid += std::isnan(h) ? 0 : 1;
-    const double n = static_cast<double>(valid);
+    const double n = static_cast<double>(valid.count);
     ArealParameters p;
     p.threshold = threshold;
     p.sq_um = std::sqrt(d.squares / n);
@@ -285,7 +284,7 @@ ArealParameters compute_areal_parameters(const Heightfield& field, double thresh
     if (d.gradients == 0) throw Error("areal parameters need valid slopes (no valid point has valid neighbours)");
     p.sdq = std::sqrt(d.gradient_squares / static_cast<double>(d.gradients));  // ISO 25178-2 §4.3.1
     p.sdr = d.area_excess / static_cast<double>(d.gradients);                     // ISO 25178-2 §4.3.2
-    spatial_parameters(field, mean, dx, dy, p);
+    spatial_parameters(field, valid, dx, dy, p);
     p.std_deg = texture_direction_deg(field, mean, dx, dy);
     return p;
 }

@@ -15,7 +15,7 @@ struct Moments {
 
 }  // namespace
 
-double mean_height(const Heightfield& field, const char* what) {
+ValidHeights valid_heights(const Heightfield& field, const char* what) {
     const std::size_t chunks = (field.rows + kRowsPerChunk - 1) / kRowsPerChunk;
     std::vector<Moments> partial(chunks);
     parallel_for(field.rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
@@ -34,10 +34,10 @@ double mean_height(const Heightfield& field, const char* what) {
         total.sum += sums.sum;
     }
     if (total.valid < 2) throw Error(std::string(what) + " need at least 2 valid heights");
-    return total.sum / static_cast<double>(total.valid);
+    return {total.valid, total.sum / static_cast<double>(total.valid), total.valid < field.size()};
 }
 
-Autocorrelation::Autocorrelation(const Heightfield& field, double mean) : field_(field) {
+Autocorrelation::Autocorrelation(const Heightfield& field, const ValidHeights& valid) : field_(field) {
     rows_ = field.rows;
     cols_ = field.cols;
     max_row_lag_ = rows_ / 2;
@@ -46,15 +46,14 @@ Autocorrelation::Autocorrelation(const Heightfield& field, double mean) : field_
     // the field for every evaluated lag; a periodic field is its own continuation.
     padded_rows_ = field.periodic ? rows_ : smooth_fft_size(rows_ + max_row_lag_ + 1);
     padded_cols_ = field.periodic ? cols_ : smooth_fft_size(cols_ + max_col_lag_ + 1);
-    const bool missing =
-        std::any_of(field.heights_um.begin(), field.heights_um.end(), [](float h) { return std::isnan(h); });
+    const double mean = valid.mean;
     heights_ = autocorrelation_2d(padded_rows_, padded_cols_, rows_, max_row_lag_, [&](int r, float* out) {
         for (int c = 0; c < cols_; ++c) {
             const float h = field.at(r, c);
             out[c] = std::isnan(h) ? 0.0f : static_cast<float>(h - mean);
         }
     });
-    if (missing)
+    if (valid.missing)
         pairs_ = autocorrelation_2d(padded_rows_, padded_cols_, rows_, max_row_lag_, [&](int r, float* out) {
             for (int c = 0; c < cols_; ++c) out[c] = std::isnan(field.at(r, c)) ? 0.0f : 1.0f;
         });

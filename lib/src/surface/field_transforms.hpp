@@ -25,8 +25,14 @@ inline int neighbour(int i, int offset, int n, bool periodic) {
     return periodic ? (j + n) % n : -1;
 }
 
-// The mean of the valid heights; throws Error with fewer than 2 (`what` names the caller).
-double mean_height(const Heightfield& field, const char* what);
+struct ValidHeights {
+    std::size_t count = 0;  // the valid (non-NaN) heights
+    double mean = 0.0;
+    bool missing = false;   // count < field.size()
+};
+
+// One pass over the heights; throws Error with fewer than 2 valid ones (`what` names the caller).
+ValidHeights valid_heights(const Heightfield& field, const char* what);
 
 // ---- 2-D transforms as batches of 1-D ones (fixed chunks: thread-count independent) ----
 
@@ -143,7 +149,7 @@ HalfSpectrum autocorrelation_2d(int padded_rows, int padded_cols, int filled_row
 // bias it; circular on periodic fields), for lags up to half the field along each axis.
 class Autocorrelation {
 public:
-    Autocorrelation(const Heightfield& field, double mean);
+    Autocorrelation(const Heightfield& field, const ValidHeights& heights);
 
     int max_row_lag() const { return max_row_lag_; }
     int max_col_lag() const { return max_col_lag_; }

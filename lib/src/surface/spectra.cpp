@@ -33,7 +33,7 @@ std::vector<float> window_of(int n, bool periodic) {
 
 PowerSpectralDensity compute_power_spectral_density(const Heightfield& field) {
     validate(field, "power spectral density", /*allow_missing=*/true);
-    const double mean = mean_height(field, "the power spectral density");
+    const double mean = valid_heights(field, "the power spectral density").mean;
     const int rows = field.rows, cols = field.cols;
     const double dx = field.texel_um, dy = field.texel_um;
     const std::vector<float> window_x = window_of(cols, field.periodic), window_y = window_of(rows, field.periodic);
@@ -115,7 +115,7 @@ AutocorrelationCurves compute_autocorrelation_curves(const Heightfield& field, d
     AutocorrelationCurves curves;
     curves.parameters = compute_areal_parameters(field, threshold);  // validates the field and s
     const double dx = field.texel_um, dy = field.texel_um;
-    const Autocorrelation acf(field, mean_height(field, "the autocorrelation"));
+    const Autocorrelation acf(field, valid_heights(field, "the autocorrelation"));
     for (int c = 0; c <= acf.max_col_lag(); ++c) curves.x_lag_um.push_back(c * dx), curves.x.push_back(acf.at(0, c));
     for (int r = 0; r <= acf.max_row_lag(); ++r)
         curves.y_lag_um.push_back(r * dy), curves.y.push_back(acf.at(-r, 0));  // rows run toward −y
