@@ -137,8 +137,9 @@ RayDecay decay_along(const Autocorrelation& acf, double theta, double dx, double
     return decay;
 }
 
-void spatial_parameters(const Heightfield& field, const ValidHeights& valid, double dx, double dy, ArealParameters& p) {
-    const Autocorrelation acf(field, valid);
+}  // namespace
+
+void field_transforms::decay_parameters(const Autocorrelation& acf, double dx, double dy, ArealParameters& p) {
     p.max_lag_x_um = acf.max_col_lag() * dx;
     p.max_lag_y_um = acf.max_row_lag() * dy;
     std::vector<RayDecay> rays(kDirections);
@@ -175,6 +176,13 @@ void spatial_parameters(const Heightfield& field, const ValidHeights& valid, dou
     p.str = p.sal_um / p.longest_decay_um;
     p.str_is_upper_bound = p.longest_is_lower_bound && !p.sal_is_lower_bound;
 }
+
+void field_transforms::check_threshold(double threshold) {
+    if (!(threshold > 0.0 && threshold < 1.0))
+        throw Error("the autocorrelation threshold s must lie between 0 and 1, got " + shortest_text(threshold));
+}
+
+namespace {
 
 // ---- texture direction ----
 
@@ -261,8 +269,7 @@ double texture_direction_deg(const Heightfield& field, double mean, double dx, d
 
 ArealParameters compute_areal_parameters(const Heightfield& field, double threshold) {
     validate(field, "areal parameters", /*allow_missing=*/true);
-    if (!(threshold > 0.0 && threshold < 1.0))
-        throw Error("the autocorrelation threshold s must lie between 0 and 1, got " + shortest_text(threshold));
+    check_threshold(threshold);
     const bool periodic = field.periodic;
     if (!periodic && (field.rows < 3 || field.cols < 3))
         throw Error("areal parameters need at least 3 x 3 samples (slopes need both neighbours)");
@@ -284,7 +291,7 @@ ArealParameters compute_areal_parameters(const Heightfield& field, double thresh
     if (d.gradients == 0) throw Error("areal parameters need valid slopes (no valid point has valid neighbours)");
     p.sdq = std::sqrt(d.gradient_squares / static_cast<double>(d.gradients));  // ISO 25178-2 §4.3.1
     p.sdr = d.area_excess / static_cast<double>(d.gradients);                     // ISO 25178-2 §4.3.2
-    spatial_parameters(field, valid, dx, dy, p);
+    decay_parameters(Autocorrelation(field, valid), dx, dy, p);
     p.std_deg = texture_direction_deg(field, mean, dx, dy);
     return p;
 }

@@ -11,6 +11,8 @@ namespace {
 struct Moments {
     std::size_t valid = 0;
     double sum = 0.0;
+    float lowest = std::numeric_limits<float>::infinity();
+    float highest = -std::numeric_limits<float>::infinity();
 };
 
 }  // namespace
@@ -25,6 +27,8 @@ ValidHeights valid_heights(const Heightfield& field, const char* what) {
             if (std::isnan(h)) continue;
             ++sums.valid;
             sums.sum += h;
+            sums.lowest = std::min(sums.lowest, field.heights_um[i]);
+            sums.highest = std::max(sums.highest, field.heights_um[i]);
         }
         partial[begin / kRowsPerChunk] = sums;
     });
@@ -32,9 +36,12 @@ ValidHeights valid_heights(const Heightfield& field, const char* what) {
     for (const Moments& sums : partial) {
         total.valid += sums.valid;
         total.sum += sums.sum;
+        total.lowest = std::min(total.lowest, sums.lowest);
+        total.highest = std::max(total.highest, sums.highest);
     }
     if (total.valid < 2) throw Error(std::string(what) + " need at least 2 valid heights");
-    return {total.valid, total.sum / static_cast<double>(total.valid), total.valid < field.size()};
+    return {total.valid, total.sum / static_cast<double>(total.valid), total.lowest, total.highest,
+            total.valid < field.size()};
 }
 
 Autocorrelation::Autocorrelation(const Heightfield& field, const ValidHeights& valid) : field_(field) {

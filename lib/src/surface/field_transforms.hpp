@@ -10,6 +10,7 @@
 
 #include "numerics/fftw_plans.hpp"
 #include "glintscope/core/parallel.hpp"
+#include "glintscope/surface/areal_parameters.hpp"
 #include "glintscope/surface/heightfield.hpp"
 
 namespace glintscope::field_transforms {
@@ -28,6 +29,7 @@ inline int neighbour(int i, int offset, int n, bool periodic) {
 struct ValidHeights {
     std::size_t count = 0;  // the valid (non-NaN) heights
     double mean = 0.0;
+    double lowest = 0.0, highest = 0.0;
     bool missing = false;   // count < field.size()
 };
 
@@ -169,5 +171,12 @@ private:
     HalfSpectrum pairs_;
     double variance_ = 1.0;
 };
+
+// From the autocorrelation: Sal, the slowest decay, Str and their bounds, and the lags evaluated
+// (areal_parameters.hpp), for the threshold p.threshold; the other fields of p are left alone.
+void decay_parameters(const Autocorrelation& acf, double dx, double dy, ArealParameters& p);
+
+// Throws Error unless s lies in (0, 1).
+void check_threshold(double threshold);
 
 }  // namespace glintscope::field_transforms

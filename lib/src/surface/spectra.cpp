@@ -4,6 +4,7 @@
 #include <limits>
 #include <vector>
 
+#include "glintscope/core/error.hpp"
 #include "glintscope/core/geometry.hpp"
 #include "glintscope/core/parallel.hpp"
 #include "surface/field_transforms.hpp"
@@ -112,10 +113,15 @@ PowerSpectralDensity compute_power_spectral_density(const Heightfield& field) {
 }
 
 AutocorrelationCurves compute_autocorrelation_curves(const Heightfield& field, double threshold) {
-    AutocorrelationCurves curves;
-    curves.parameters = compute_areal_parameters(field, threshold);  // validates the field and s
+    validate(field, "autocorrelation", /*allow_missing=*/true);
+    check_threshold(threshold);
+    const ValidHeights valid = valid_heights(field, "the autocorrelation");
+    if (valid.lowest == valid.highest) throw Error("the autocorrelation needs heights that vary (Sq = 0)");
     const double dx = field.texel_um, dy = field.texel_um;
-    const Autocorrelation acf(field, valid_heights(field, "the autocorrelation"));
+    const Autocorrelation acf(field, valid);
+    AutocorrelationCurves curves;
+    curves.parameters.threshold = threshold;
+    decay_parameters(acf, dx, dy, curves.parameters);  // Sal as info computes it, from the same f
     for (int c = 0; c <= acf.max_col_lag(); ++c) curves.x_lag_um.push_back(c * dx), curves.x.push_back(acf.at(0, c));
     for (int r = 0; r <= acf.max_row_lag(); ++r)
         curves.y_lag_um.push_back(r * dy), curves.y.push_back(acf.at(-r, 0));  // rows run toward −y

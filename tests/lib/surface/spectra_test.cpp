@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "glintscope/core/error.hpp"
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/surface/spectra.hpp"
 
@@ -99,7 +100,8 @@ TEST(Spectra, GaussianFieldAutocorrelationIsItsClosedForm) {
     // Stam's C1: f(τ) = exp(−τ²/T²). 512² texels hold ~(512/T)² = 4096 correlation areas, so the
     // sampled autocorrelation scatters by about 1/√4096 · a few ≈ 0.05 around it.
     const double correlation = 8.0;
-    const AutocorrelationCurves curves = compute_autocorrelation_curves(gaussian_field(512, correlation, 2));
+    const Heightfield field = gaussian_field(512, correlation, 2);
+    const AutocorrelationCurves curves = compute_autocorrelation_curves(field);
     EXPECT_DOUBLE_EQ(curves.x[0], 1.0);
     EXPECT_DOUBLE_EQ(curves.y[0], 1.0);
     EXPECT_DOUBLE_EQ(curves.radial[0], 1.0);
@@ -115,10 +117,20 @@ TEST(Spectra, GaussianFieldAutocorrelationIsItsClosedForm) {
     // which averages the directions, crosses s near it.
     const double sal = correlation * std::sqrt(std::log(5.0));
     EXPECT_NEAR(curves.parameters.sal_um, sal, 0.1 * sal);
+    EXPECT_EQ(curves.parameters.sal_um, compute_areal_parameters(field).sal_um);  // info's Sal, exactly
     const auto below = static_cast<std::size_t>(std::ceil(1.1 * curves.parameters.sal_um));
     EXPECT_LT(curves.radial[below], curves.parameters.threshold);
     const auto above = static_cast<std::size_t>(std::floor(0.9 * curves.parameters.sal_um));
     EXPECT_GT(curves.radial[above], curves.parameters.threshold);
+}
+
+TEST(Spectra, FlatFieldsAndBadThresholdsAreRefused) {
+    const Heightfield flat = make_heightfield(16, 16, 1.0, 0.5f);
+    EXPECT_THROW(compute_autocorrelation_curves(flat), Error);
+    EXPECT_THROW(compute_autocorrelation_curves(gaussian_field(64, 4.0, 1), 1.0), Error);
+    Heightfield missing = make_heightfield(4, 4, 1.0, std::nanf(""));
+    missing.at(0, 0) = 1.0f;
+    EXPECT_THROW(compute_power_spectral_density(missing), Error);  // one valid height
 }
 
 }  // namespace

@@ -44,10 +44,13 @@ struct AutocorrelationCurves {
     std::vector<double> x_lag_um, x;  // f(t, 0), t = 0..cols/2 texels
     std::vector<double> y_lag_um, y;  // f(0, t) toward +y, t = 0..rows/2 texels
     std::vector<double> radial_lag_um, radial;  // NaN where an annulus has no valid pair
-    ArealParameters parameters;  // Sal, Str and the threshold s they were computed with
+    // The spatial parameters as compute_areal_parameters gives them (threshold s, Sal, the slowest
+    // decay, Str, their bounds, the lags evaluated), from this same autocorrelation; the height
+    // and hybrid parameters and Std are not computed here (0).
+    ArealParameters parameters;
 };
 
-// Throws Error as compute_areal_parameters does.
+// Throws Error for an invalid field, fewer than 2 valid heights, flat heights or s outside (0, 1).
 AutocorrelationCurves compute_autocorrelation_curves(const Heightfield& field,
                                                      double threshold = kIsoAutocorrelationThreshold);
 
