@@ -33,7 +33,7 @@ std::string normalisation_note(const PowerSpectralDensity& psd) {
 }
 
 Plot log_log_plot(const std::string& title, const std::string& x_label, const std::string& y_label) {
-    return Plot{title, x_label, y_label, {}, {}, /*log_x=*/true, /*log_y=*/true};
+    return Plot{title, x_label, y_label, {}, {}, /*log_y=*/true, /*log_x=*/true};
 }
 
 }  // namespace

@@ -22,8 +22,8 @@ struct Plot {
     std::string y_label;
     std::vector<std::string> caption;  // lines under the plot
     std::vector<PlotSeries> series;
-    bool log_x = false;      // non-positive x are then skipped, like y on a log y axis
     bool log_y = false;
+    bool log_x = false;      // non-positive x are then skipped, like y on a log y axis
 };
 
 // Writes the plot atomically; throws Error for no series, mismatched x and y, or no finite point.
