@@ -14,6 +14,7 @@ SlopeComparison compare_slopes_with_pndf(const Heightfield& field, int resolutio
     query.quantity = Quantity::ndf;
     query.footprint.shape = FootprintShape::whole;
     query.resolution = resolution;
+    query.method_options["tolerance"] = "0";
     comparison.pndf = compute_lobe("pndf", query);
     comparison.slopes = make_lobe_image(resolution, comparison.pndf.wavelengths_um, Quantity::ndf);
     comparison.slopes.values = slopes;

@@ -3,6 +3,9 @@
 // beside its whole-field P-NDF (ndf method pndf): one density of normals over the projected disk,
 // from the samples' central differences and from the shared interpolant's continuous gradient.
 // On a smooth field the two agree; where they differ, the sampling is too coarse for the slopes.
+// The P-NDF is computed with tolerance=0 (one cell per texel, each mapped affinely): for a whole
+// field, whose texels far outnumber the disk's pixels, this is as sharp as the image can show and
+// about 9 times faster than the whole-field default 0.1 (8192² at 256²: 16 s of CPU, not 150).
 #include "glintscope/lobe/image.hpp"
 #include "glintscope/surface/heightfield.hpp"
 
