@@ -103,6 +103,8 @@ TEST(PreviewCommand, FailuresLeaveNoFile) {
          "box footprint sides must be between 0 and 100 mm, got 0 um"},
         {{"preview", input, "-o", directory.file("out.png"), "--centre", "8,8", "--box", "7x5x3"}, "WIDTHxHEIGHT"},
         {{"preview", input, "-o", directory.file("out.png"), "--centre", "1e9,8"}, "footprint centre must be finite"},
+        {{"preview", input}, "preview needs an output: -o, --psd, --acf or --slopes"},
+        {{"preview", input, "--psd", directory.file("psd.jpg")}, "psd.jpg': the file name must end in .png"},
     };
     for (const auto& [arguments, message] : cases) {
         const auto result = run_cli(arguments);
@@ -111,6 +113,32 @@ TEST(PreviewCommand, FailuresLeaveNoFile) {
         EXPECT_EQ(result.output.find('\n'), result.output.size() - 1) << result.output;
         EXPECT_EQ(testing::count_entries(directory.path()), 2) << result.output;  // the two inputs
     }
+}
+
+// The picture's height in pixels (0 when it cannot be read).
+int picture_height(const std::string& png) {
+    auto input = OIIO::ImageInput::open(png);
+    return input ? input->spec().height : 0;
+}
+
+TEST(PreviewCommand, SpectrumAutocorrelationAndSlopePlotsAreWrittenWhereAsked) {
+    TemporaryDirectory directory;
+    const std::string input = directory.file("ramp.npy");
+    Heightfield ramp = ramp_in_y();
+    ramp.at(40, 10) = ramp.at(41, 10) + 1.0f;  // filled: the P-NDF's interpolant refuses missing points
+    save_heightfield(input, ramp);
+    const std::string psd = directory.file("psd.png"), acf = directory.file("acf.png");
+    const auto result = run_cli({"preview", input, "--psd", psd, "--acf", acf});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_EQ(testing::count_entries(directory.path()), 3);  // no height picture without -o
+    // The PSD stacks two plots (radial, axial), the autocorrelation is one.
+    EXPECT_GT(picture_height(acf), 300);
+    EXPECT_GT(picture_height(psd), 2 * picture_height(acf) - 100);
+    const std::string slopes = directory.file("slopes.png");
+    const auto slope_result = run_cli({"preview", input, "--slopes", slopes});
+    ASSERT_EQ(slope_result.exit_code, 0) << slope_result.output;
+    EXPECT_GT(picture_height(slopes), 300);
+    EXPECT_EQ(testing::count_entries(directory.path()), 4);
 }
 
 TEST(PreviewCommand, UnknownColormapIsRejected) {

@@ -6,28 +6,22 @@
 #include <limits>
 #include <vector>
 
-#include "numerics/chirp_z.hpp"
-#include "numerics/fftw_plans.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/geometry.hpp"
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "surface/field_transforms.hpp"
 
 namespace glintscope {
 namespace {
 
-constexpr std::size_t kRowsPerChunk = 32;
-constexpr std::size_t kColumnsPerBlock = 16;
+using namespace field_transforms;
+
 constexpr int kDirections = 360;    // rays every 0.5° over [0°, 180°): f(t) = f(−t)
 constexpr int kAngularBins = 180;   // 1° bins of the angular spectrum
 constexpr double kRayStep = 0.25;   // in texels
 
 // ---- height and hybrid parameters ----
-
-struct Moments {
-    std::size_t valid = 0;
-    double sum = 0.0;
-};
 
 struct Deviations {
     double squares = 0.0, cubes = 0.0, fourths = 0.0, absolutes = 0.0;
@@ -37,36 +31,6 @@ struct Deviations {
     double gradient_squares = 0.0;
     double area_excess = 0.0;  // Σ √(1 + |∇z|²) − 1
 };
-
-double mean_height(const Heightfield& field) {
-    const std::size_t chunks = (field.rows + kRowsPerChunk - 1) / kRowsPerChunk;
-    std::vector<Moments> partial(chunks);
-    parallel_for(field.rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
-        Moments sums;
-        for (std::size_t i = begin * field.cols; i < end * field.cols; ++i) {
-            const double h = field.heights_um[i];
-            if (std::isnan(h)) continue;
-            ++sums.valid;
-            sums.sum += h;
-        }
-        partial[begin / kRowsPerChunk] = sums;
-    });
-    Moments total;
-    for (const Moments& sums : partial) {
-        total.valid += sums.valid;
-        total.sum += sums.sum;
-    }
-    if (total.valid < 2) throw Error("areal parameters need at least 2 valid heights");
-    return total.sum / static_cast<double>(total.valid);
-}
-
-// The neighbour of index i at offset ±1 along an axis of n samples: wraps on periodic fields,
-// -1 outside a non-periodic one.
-int neighbour(int i, int offset, int n, bool periodic) {
-    const int j = i + offset;
-    if (j >= 0 && j < n) return j;
-    return periodic ? (j + n) % n : -1;
-}
 
 // The height moments of one row about `mean`.
 void add_heights(const float* row, int cols, double mean, Deviations& sums) {
@@ -140,187 +104,6 @@ Deviations deviations(const Heightfield& field, double mean, double dx, double d
     return total;
 }
 
-// ---- 2-D transforms as batches of 1-D ones (fixed chunks: thread-count independent) ----
-
-// A padded_rows × padded_cols real array held as its half spectrum: row r's r2c transform at
-// data + r·stride (stride a multiple of 4 complex values, so every row keeps the planning
-// array's 32-byte alignment).
-struct HalfSpectrum {
-    int rows = 0;
-    int cols = 0;
-    std::size_t stride = 0;
-    FftwBuffer<fftwf_complex> data;
-
-    std::size_t bins() const { return static_cast<std::size_t>(cols) / 2 + 1; }
-    float* real_row(int r) { return reinterpret_cast<float*>(data.get() + static_cast<std::size_t>(r) * stride); }
-    const float* real_row(int r) const {
-        return reinterpret_cast<const float*>(data.get() + static_cast<std::size_t>(r) * stride);
-    }
-};
-
-// Rows 0..filled_rows−1 from fill_row(r, out) (out has padded_cols floats, pre-zeroed), the rest
-// zero; each row transformed in place (r2c), then each column transformed (c2c forward) and
-// handed to column_op(k, column, rows, block_index), which may change it and whose changes are
-// stored back.
-template <typename FillRow, typename ColumnOp>
-HalfSpectrum forward_2d(int padded_rows, int padded_cols, int filled_rows, const FillRow& fill_row,
-                        const ColumnOp& column_op) {
-    HalfSpectrum spectrum;
-    spectrum.rows = padded_rows;
-    spectrum.cols = padded_cols;
-    spectrum.stride = (spectrum.bins() + 3) & ~std::size_t{3};
-    spectrum.data = make_fftw_buffer<fftwf_complex>(spectrum.stride * static_cast<std::size_t>(padded_rows));
-    auto plan_row = make_fftw_buffer<fftwf_complex>(spectrum.stride);
-    const FftwfPlan row_plan([&] {
-        return fftwf_plan_dft_r2c_1d(padded_cols, reinterpret_cast<float*>(plan_row.get()), plan_row.get(),
-                                     FFTW_ESTIMATE);
-    });
-    parallel_for(padded_rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t r = begin; r < end; ++r) {
-            float* row = spectrum.real_row(static_cast<int>(r));
-            std::fill(row, row + 2 * spectrum.stride, 0.0f);
-            if (static_cast<int>(r) >= filled_rows) continue;
-            fill_row(static_cast<int>(r), row);
-            fftwf_execute_dft_r2c(row_plan.get(), row, reinterpret_cast<fftwf_complex*>(row));
-        }
-    });
-    auto plan_column = make_fftw_buffer<fftwf_complex>(static_cast<std::size_t>(padded_rows));
-    const FftwfPlan column_plan([&] {
-        return fftwf_plan_dft_1d(padded_rows, plan_column.get(), plan_column.get(), FFTW_FORWARD, FFTW_ESTIMATE);
-    });
-    const std::size_t bins = spectrum.bins();
-    parallel_for(bins, kColumnsPerBlock, [&](std::size_t begin, std::size_t end) {
-        const std::size_t count = end - begin;
-        fftwf_complex* block = thread_scratch<fftwf_complex>(0, count * padded_rows);
-        for (int r = 0; r < padded_rows; ++r)
-            for (std::size_t k = begin; k < end; ++k) {
-                const fftwf_complex& value = spectrum.data[r * spectrum.stride + k];
-                block[(k - begin) * padded_rows + r][0] = value[0];
-                block[(k - begin) * padded_rows + r][1] = value[1];
-            }
-        for (std::size_t k = begin; k < end; ++k) {
-            fftwf_complex* column = block + (k - begin) * padded_rows;
-            fftwf_execute_dft(column_plan.get(), column, column);
-            column_op(k, column, padded_rows, begin / kColumnsPerBlock);
-        }
-        for (int r = 0; r < padded_rows; ++r)
-            for (std::size_t k = begin; k < end; ++k) {
-                fftwf_complex& value = spectrum.data[r * spectrum.stride + k];
-                value[0] = block[(k - begin) * padded_rows + r][0];
-                value[1] = block[(k - begin) * padded_rows + r][1];
-            }
-    });
-    return spectrum;
-}
-
-// The circular autocorrelation (unnormalised) of the array fill_row describes, for the lags
-// |t_row| ≤ max_row_lag: |FFT|² transformed back, rows read through real_row(lag mod rows).
-template <typename FillRow>
-HalfSpectrum autocorrelation_2d(int padded_rows, int padded_cols, int filled_rows, int max_row_lag,
-                                const FillRow& fill_row) {
-    auto plan_column = make_fftw_buffer<fftwf_complex>(static_cast<std::size_t>(padded_rows));
-    const FftwfPlan inverse_column_plan([&] {
-        return fftwf_plan_dft_1d(padded_rows, plan_column.get(), plan_column.get(), FFTW_BACKWARD, FFTW_ESTIMATE);
-    });
-    HalfSpectrum spectrum = forward_2d(
-        padded_rows, padded_cols, filled_rows, fill_row,
-        [&](std::size_t, fftwf_complex* column, int rows, std::size_t) {
-            for (int r = 0; r < rows; ++r) {
-                column[r][0] = column[r][0] * column[r][0] + column[r][1] * column[r][1];
-                column[r][1] = 0.0f;
-            }
-            fftwf_execute_dft(inverse_column_plan.get(), column, column);
-        });
-    auto plan_row = make_fftw_buffer<fftwf_complex>(spectrum.stride);
-    const FftwfPlan inverse_row_plan([&] {
-        return fftwf_plan_dft_c2r_1d(padded_cols, plan_row.get(), reinterpret_cast<float*>(plan_row.get()),
-                                     FFTW_ESTIMATE);
-    });
-    // Only the rows of lags −max_row_lag..max_row_lag are read.
-    std::vector<int> needed;
-    for (int lag = -max_row_lag; lag <= max_row_lag; ++lag) needed.push_back((lag + padded_rows) % padded_rows);
-    std::sort(needed.begin(), needed.end());
-    needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
-    parallel_for(needed.size(), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) {
-            fftwf_complex* row = spectrum.data.get() + static_cast<std::size_t>(needed[i]) * spectrum.stride;
-            fftwf_execute_dft_c2r(inverse_row_plan.get(), row, reinterpret_cast<float*>(row));
-        }
-    });
-    return spectrum;
-}
-
-// ---- the autocorrelation function and its decay along rays ----
-
-class Autocorrelation {
-public:
-    Autocorrelation(const Heightfield& field, double mean) : field_(field) {
-        rows_ = field.rows;
-        cols_ = field.cols;
-        max_row_lag_ = rows_ / 2;
-        max_col_lag_ = cols_ / 2;
-        // Zero padding by half the field makes the circular sums the sums over pairs inside
-        // the field for every evaluated lag; a periodic field is its own continuation.
-        padded_rows_ = field.periodic ? rows_ : smooth_fft_size(rows_ + max_row_lag_ + 1);
-        padded_cols_ = field.periodic ? cols_ : smooth_fft_size(cols_ + max_col_lag_ + 1);
-        const bool missing = std::any_of(field.heights_um.begin(), field.heights_um.end(),
-                                         [](float h) { return std::isnan(h); });
-        heights_ = autocorrelation_2d(padded_rows_, padded_cols_, rows_, max_row_lag_, [&](int r, float* out) {
-            for (int c = 0; c < cols_; ++c) {
-                const float h = field.at(r, c);
-                out[c] = std::isnan(h) ? 0.0f : static_cast<float>(h - mean);
-            }
-        });
-        if (missing)
-            pairs_ = autocorrelation_2d(padded_rows_, padded_cols_, rows_, max_row_lag_, [&](int r, float* out) {
-                for (int c = 0; c < cols_; ++c) out[c] = std::isnan(field.at(r, c)) ? 0.0f : 1.0f;
-            });
-        variance_ = covariance(0, 0);
-    }
-
-    int max_row_lag() const { return max_row_lag_; }
-    int max_col_lag() const { return max_col_lag_; }
-
-    // f at the integer lag (row_lag, col_lag) in samples; NaN where no pair of valid points has it.
-    double at(int row_lag, int col_lag) const { return covariance(row_lag, col_lag) / variance_; }
-
-    // f at a fractional lag, bilinear between the four integer lags around it.
-    double interpolate(double row_lag, double col_lag) const {
-        const double r0 = std::floor(row_lag);
-        const double c0 = std::floor(col_lag);
-        const double fr = row_lag - r0;
-        const double fc = col_lag - c0;
-        const int r = static_cast<int>(r0);
-        const int c = static_cast<int>(c0);
-        return (1 - fr) * ((1 - fc) * at(r, c) + fc * at(r, c + 1)) + fr * ((1 - fc) * at(r + 1, c) + fc * at(r + 1, c + 1));
-    }
-
-private:
-    double covariance(int row_lag, int col_lag) const {
-        row_lag = std::clamp(row_lag, -max_row_lag_, max_row_lag_);
-        col_lag = std::clamp(col_lag, -max_col_lag_, max_col_lag_);
-        const int r = (row_lag + padded_rows_) % padded_rows_;
-        const int c = (col_lag + padded_cols_) % padded_cols_;
-        const double sum = heights_.real_row(r)[c];
-        double pairs = 0.0;
-        if (pairs_.data) {
-            pairs = pairs_.real_row(r)[c];
-            // The transforms carry a factor padded_rows·padded_cols on both sums.
-            if (pairs < 0.5 * padded_rows_ * double(padded_cols_)) return std::numeric_limits<double>::quiet_NaN();
-        } else {
-            pairs = field_.periodic ? double(rows_) * cols_ : double(rows_ - std::abs(row_lag)) * (cols_ - std::abs(col_lag));
-            pairs *= double(padded_rows_) * padded_cols_;
-        }
-        return sum / pairs;
-    }
-
-    const Heightfield& field_;
-    int rows_ = 0, cols_ = 0, padded_rows_ = 0, padded_cols_ = 0, max_row_lag_ = 0, max_col_lag_ = 0;
-    HalfSpectrum heights_;
-    HalfSpectrum pairs_;
-    double variance_ = 1.0;
-};
-
 struct RayDecay {
     double length_um = 0.0;       // where f first reaches the threshold, or the last lag evaluated
     bool decayed = false;
@@ -354,8 +137,9 @@ RayDecay decay_along(const Autocorrelation& acf, double theta, double dx, double
     return decay;
 }
 
-void spatial_parameters(const Heightfield& field, double mean, double dx, double dy, ArealParameters& p) {
-    const Autocorrelation acf(field, mean);
+}  // namespace
+
+void field_transforms::decay_parameters(const Autocorrelation& acf, double dx, double dy, ArealParameters& p) {
     p.max_lag_x_um = acf.max_col_lag() * dx;
     p.max_lag_y_um = acf.max_row_lag() * dy;
     std::vector<RayDecay> rays(kDirections);
@@ -392,6 +176,13 @@ void spatial_parameters(const Heightfield& field, double mean, double dx, double
     p.str = p.sal_um / p.longest_decay_um;
     p.str_is_upper_bound = p.longest_is_lower_bound && !p.sal_is_lower_bound;
 }
+
+void field_transforms::check_threshold(double threshold) {
+    if (!(threshold > 0.0 && threshold < 1.0))
+        throw Error("the autocorrelation threshold s must lie between 0 and 1, got " + shortest_text(threshold));
+}
+
+namespace {
 
 // ---- texture direction ----
 
@@ -478,17 +269,15 @@ double texture_direction_deg(const Heightfield& field, double mean, double dx, d
 
 ArealParameters compute_areal_parameters(const Heightfield& field, double threshold) {
     validate(field, "areal parameters", /*allow_missing=*/true);
-    if (!(threshold > 0.0 && threshold < 1.0))
-        throw Error("the autocorrelation threshold s must lie between 0 and 1, got " + shortest_text(threshold));
+    check_threshold(threshold);
     const bool periodic = field.periodic;
     if (!periodic && (field.rows < 3 || field.cols < 3))
         throw Error("areal parameters need at least 3 x 3 samples (slopes need both neighbours)");
     const double dx = field.texel_um, dy = field.texel_um;
-    const double mean = mean_height(field);
+    const ValidHeights valid = valid_heights(field, "areal parameters");
+    const double mean = valid.mean;
     const Deviations d = deviations(field, mean, dx, dy);
-    std::size_t valid = 0;
-    for (float h : field.heights_um) valid += std::isnan(h) ? 0 : 1;
-    const double n = static_cast<double>(valid);
+    const double n = static_cast<double>(valid.count);
     ArealParameters p;
     p.threshold = threshold;
     p.sq_um = std::sqrt(d.squares / n);
@@ -502,7 +291,7 @@ ArealParameters compute_areal_parameters(const Heightfield& field, double thresh
     if (d.gradients == 0) throw Error("areal parameters need valid slopes (no valid point has valid neighbours)");
     p.sdq = std::sqrt(d.gradient_squares / static_cast<double>(d.gradients));  // ISO 25178-2 §4.3.1
     p.sdr = d.area_excess / static_cast<double>(d.gradients);                     // ISO 25178-2 §4.3.2
-    spatial_parameters(field, mean, dx, dy, p);
+    decay_parameters(Autocorrelation(field, valid), dx, dy, p);
     p.std_deg = texture_direction_deg(field, mean, dx, dy);
     return p;
 }

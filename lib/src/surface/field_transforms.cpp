@@ -1,0 +1,98 @@
+#include "surface/field_transforms.hpp"
+
+#include <limits>
+
+#include "numerics/chirp_z.hpp"
+#include "glintscope/core/error.hpp"
+
+namespace glintscope::field_transforms {
+namespace {
+
+struct Moments {
+    std::size_t valid = 0;
+    double sum = 0.0;
+    float lowest = std::numeric_limits<float>::infinity();
+    float highest = -std::numeric_limits<float>::infinity();
+};
+
+}  // namespace
+
+ValidHeights valid_heights(const Heightfield& field, const char* what) {
+    const std::size_t chunks = (field.rows + kRowsPerChunk - 1) / kRowsPerChunk;
+    std::vector<Moments> partial(chunks);
+    parallel_for(field.rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+        Moments sums;
+        for (std::size_t i = begin * field.cols; i < end * field.cols; ++i) {
+            const double h = field.heights_um[i];
+            if (std::isnan(h)) continue;
+            ++sums.valid;
+            sums.sum += h;
+            sums.lowest = std::min(sums.lowest, field.heights_um[i]);
+            sums.highest = std::max(sums.highest, field.heights_um[i]);
+        }
+        partial[begin / kRowsPerChunk] = sums;
+    });
+    Moments total;
+    for (const Moments& sums : partial) {
+        total.valid += sums.valid;
+        total.sum += sums.sum;
+        total.lowest = std::min(total.lowest, sums.lowest);
+        total.highest = std::max(total.highest, sums.highest);
+    }
+    if (total.valid < 2) throw Error(std::string(what) + " need at least 2 valid heights");
+    return {total.valid, total.sum / static_cast<double>(total.valid), total.lowest, total.highest,
+            total.valid < field.size()};
+}
+
+Autocorrelation::Autocorrelation(const Heightfield& field, const ValidHeights& valid) : field_(field) {
+    rows_ = field.rows;
+    cols_ = field.cols;
+    max_row_lag_ = rows_ / 2;
+    max_col_lag_ = cols_ / 2;
+    // Zero padding by half the field makes the circular sums the sums over pairs inside
+    // the field for every evaluated lag; a periodic field is its own continuation.
+    padded_rows_ = field.periodic ? rows_ : smooth_fft_size(rows_ + max_row_lag_ + 1);
+    padded_cols_ = field.periodic ? cols_ : smooth_fft_size(cols_ + max_col_lag_ + 1);
+    const double mean = valid.mean;
+    heights_ = autocorrelation_2d(padded_rows_, padded_cols_, rows_, max_row_lag_, [&](int r, float* out) {
+        for (int c = 0; c < cols_; ++c) {
+            const float h = field.at(r, c);
+            out[c] = std::isnan(h) ? 0.0f : static_cast<float>(h - mean);
+        }
+    });
+    if (valid.missing)
+        pairs_ = autocorrelation_2d(padded_rows_, padded_cols_, rows_, max_row_lag_, [&](int r, float* out) {
+            for (int c = 0; c < cols_; ++c) out[c] = std::isnan(field.at(r, c)) ? 0.0f : 1.0f;
+        });
+    variance_ = covariance(0, 0);
+}
+
+double Autocorrelation::interpolate(double row_lag, double col_lag) const {
+    const double r0 = std::floor(row_lag);
+    const double c0 = std::floor(col_lag);
+    const double fr = row_lag - r0;
+    const double fc = col_lag - c0;
+    const int r = static_cast<int>(r0);
+    const int c = static_cast<int>(c0);
+    return (1 - fr) * ((1 - fc) * at(r, c) + fc * at(r, c + 1)) + fr * ((1 - fc) * at(r + 1, c) + fc * at(r + 1, c + 1));
+}
+
+double Autocorrelation::covariance(int row_lag, int col_lag) const {
+    row_lag = std::clamp(row_lag, -max_row_lag_, max_row_lag_);
+    col_lag = std::clamp(col_lag, -max_col_lag_, max_col_lag_);
+    const int r = (row_lag + padded_rows_) % padded_rows_;
+    const int c = (col_lag + padded_cols_) % padded_cols_;
+    const double sum = heights_.real_row(r)[c];
+    double pairs = 0.0;
+    if (pairs_.data) {
+        pairs = pairs_.real_row(r)[c];
+        // The transforms carry a factor padded_rows·padded_cols on both sums.
+        if (pairs < 0.5 * padded_rows_ * double(padded_cols_)) return std::numeric_limits<double>::quiet_NaN();
+    } else {
+        pairs = field_.periodic ? double(rows_) * cols_ : double(rows_ - std::abs(row_lag)) * (cols_ - std::abs(col_lag));
+        pairs *= double(padded_rows_) * padded_cols_;
+    }
+    return sum / pairs;
+}
+
+}  // namespace glintscope::field_transforms
