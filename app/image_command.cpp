@@ -147,7 +147,7 @@ void run(const ImageCommandSettings& settings, const std::string& heightfield, s
     if (method.empty()) method = default_method;
     LobeRun run;
     {
-        ProgressBar progress("footprints");
+        ProgressBar progress(query.footprints.single() ? "computing (thousandths)" : "footprints");
         run = run_lobe(method, query, [&](std::size_t done, std::size_t total) { progress.update(done, total, ""); });
     }
     LobeImage& image = run.image;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/core/version.hpp"
 #include "glintscope/lobe/query_keys.hpp"
@@ -80,6 +81,15 @@ LobeImage compute_one(const MethodEntry& entry, const LobeQuery& query) {
         const std::string& name = entry.info.name;
         throw Error(what.starts_with(name + ": ") ? what : name + ": " + what);
     }
+}
+
+// One footprint, its progress in thousandths of the method's heavy loops (core/parallel.hpp).
+LobeImage compute_single(const MethodEntry& entry, const LobeQuery& query, const RunProgress& progress) {
+    if (!progress) return compute_one(entry, query);
+    ProgressScope scope([&](double fraction) { progress(std::size_t(std::lround(1000.0 * fraction)), 1000); });
+    LobeImage image = compute_one(entry, query);
+    scope.finish();
+    return image;
 }
 
 // The mean of the method's images over the centres, pixel by pixel in order (deterministic).
@@ -249,7 +259,8 @@ LobeRun run_lobe(const std::string& method, const LobeQuery& query, const RunPro
     const MethodEntry& entry = find_method(method);
     const auto start = std::chrono::steady_clock::now();
     LobeRun run;
-    run.image = plan.query.footprints.single() ? compute_one(entry, plan.query) : mean_over_centres(entry, plan, progress);
+    run.image = plan.query.footprints.single() ? compute_single(entry, plan.query, progress)
+                                                : mean_over_centres(entry, plan, progress);
     run.image.quantity = plan.query.quantity;
     label(run.image, entry.info, plan.query);
     run.image.metadata["version"] = version();

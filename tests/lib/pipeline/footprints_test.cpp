@@ -34,6 +34,32 @@ TEST(Footprints, AGridOfThreeIsTheMeanOfItsNineFootprintsAndDiffersFromOne) {
     EXPECT_GT(compare_lobes(averaged, one).at(0).relative_l2, 0.05);
 }
 
+// One footprint reports the thousandths of its work done (core/parallel.hpp: ProgressScope),
+// rising, and ends at 1000 of 1000; the image is the one computed without progress.
+TEST(Footprints, ASingleFootprintReportsRisingProgressThatReachesTheEnd) {
+    Heightfield field = make_heightfield(128, 128, 0.5);
+    for (int r = 0; r < 128; ++r)
+        for (int c = 0; c < 128; ++c) field.at(r, c) = float(0.3 * std::sin(0.3 * c) * std::cos(0.2 * r));
+    for (const FootprintShape shape : {FootprintShape::gaussian, FootprintShape::whole}) {
+        LobeQuery query;
+        set_heightfield(query, field);
+        query.quantity = Quantity::ndf;
+        query.resolution = 64;
+        query.footprint.shape = shape;
+        query.footprint.centre_um = field.centre_um();
+        query.footprint.sigma_um = 8.0;
+        std::vector<std::pair<std::size_t, std::size_t>> calls;
+        const LobeRun run = run_lobe("pndf", query, [&](std::size_t done, std::size_t total) { calls.emplace_back(done, total); });
+        const std::string name = shape == FootprintShape::whole ? "whole" : "gaussian";
+        RecordProperty(name + "_calls", int(calls.size()));
+        ASSERT_GE(calls.size(), 3u) << name;
+        for (std::size_t k = 1; k < calls.size(); ++k) EXPECT_GT(calls[k].first, calls[k - 1].first) << name;
+        EXPECT_LT(calls.front().first, 1000u);
+        EXPECT_EQ(calls.back(), std::make_pair(std::size_t(1000), std::size_t(1000)));
+        EXPECT_EQ(run.image.values, compute_lobe("pndf", query).values);
+    }
+}
+
 TEST(Footprints, RandomCentresOfAWaveLobeAverageTheirLobes) {
     LobeQuery query;
     Heightfield field = make_heightfield(64, 64, 1.0);

@@ -34,6 +34,27 @@ auto with_threads(int threads, const Body& body) {
     return body();
 }
 
+// Progress of a long call made while the scope lives on the constructing thread: every
+// parallel_for that thread starts (not those nested in a loop's body) counts its chunks as they
+// finish, and report(fraction) is called with the chunks done over the chunks of all the loops
+// started so far, rounded down to thousandths and only when that rises (so never decreasing,
+// and below 1 until finish() reports 1). Calls are serialised (from any of the loop's threads).
+class ProgressScope {
+public:
+    explicit ProgressScope(std::function<void(double fraction)> report);
+    ~ProgressScope();
+    ProgressScope(const ProgressScope&) = delete;
+    ProgressScope& operator=(const ProgressScope&) = delete;
+
+    void finish();  // reports 1, once
+
+    struct State;  // the counts, shared with the loops
+
+private:
+    State* state_;
+    State* previous_;
+};
+
 // Calls body(begin, end) for consecutive chunks [begin, end) of [0, count) of at most
 // `chunk` items each, spread over the threads. Exceptions thrown by a body are rethrown.
 void parallel_for(std::size_t count, std::size_t chunk,

@@ -41,7 +41,8 @@ struct LobeRun {
     std::vector<std::string> warnings;  // physics warnings about the query and the image
 };
 
-// Called after each footprint of an averaged request with (done, total).
+// Called after each footprint of an averaged request with (done, total); for a single footprint
+// with the thousandths of the method's heavy loops done (core/parallel.hpp: ProgressScope), out of 1000.
 using RunProgress = std::function<void(std::size_t done, std::size_t total)>;
 
 // Plans and runs: one footprint, or the mean over the plan's centres (pixel by pixel, in order:
