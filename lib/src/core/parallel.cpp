@@ -35,34 +35,31 @@ int default_thread_count() {
 }  // namespace
 
 struct ProgressScope::State {
-    std::function<void(double)> report;
+    Report report;
     std::mutex mutex;
-    std::size_t chunks_started = 0;  // over every loop so far
-    std::size_t chunks_done = 0;
-    int reported = -1;               // thousandths
+    std::size_t pass = 0;
+    std::size_t done = 0;   // chunks of this pass
+    std::size_t total = 0;
+    std::size_t reported_thousandths = 0;
 
     void started(std::size_t chunks) {
         std::lock_guard lock(mutex);
-        chunks_started += chunks;
+        ++pass;
+        done = 0;
+        total = chunks;
+        reported_thousandths = 0;
     }
     void chunk_done() {
         std::lock_guard lock(mutex);
-        ++chunks_done;
-        const int thousandths = std::min(999, int(1000 * chunks_done / chunks_started));
-        if (thousandths <= reported) return;
-        reported = thousandths;
-        report(thousandths / 1000.0);
-    }
-    void finish() {
-        std::lock_guard lock(mutex);
-        if (reported == 1000) return;
-        reported = 1000;
-        report(1.0);
+        ++done;
+        const std::size_t thousandths = 1000 * done / total;
+        if (thousandths <= reported_thousandths && done < total) return;
+        reported_thousandths = thousandths;
+        report(pass, done, total);
     }
 };
 
-ProgressScope::ProgressScope(std::function<void(double)> report)
-    : state_(new State{std::move(report), {}, 0, 0, -1}), previous_(scoped_progress) {
+ProgressScope::ProgressScope(Report report) : state_(new State{std::move(report), {}, 0, 0, 0, 0}), previous_(scoped_progress) {
     scoped_progress = state_;
 }
 
@@ -70,8 +67,6 @@ ProgressScope::~ProgressScope() {
     scoped_progress = previous_;
     delete state_;
 }
-
-void ProgressScope::finish() { state_->finish(); }
 
 int thread_count() { return scoped_threads > 0 ? scoped_threads : default_thread_count(); }
 

@@ -83,13 +83,11 @@ LobeImage compute_one(const MethodEntry& entry, const LobeQuery& query) {
     }
 }
 
-// One footprint, its progress in thousandths of the method's heavy loops (core/parallel.hpp).
+// One footprint, its progress reported per pass of the method's heavy loops (core/parallel.hpp).
 LobeImage compute_single(const MethodEntry& entry, const LobeQuery& query, const RunProgress& progress) {
     if (!progress) return compute_one(entry, query);
-    ProgressScope scope([&](double fraction) { progress(std::size_t(std::lround(1000.0 * fraction)), 1000); });
-    LobeImage image = compute_one(entry, query);
-    scope.finish();
-    return image;
+    const ProgressScope scope([&](std::size_t, std::size_t done, std::size_t total) { progress(done, total); });
+    return compute_one(entry, query);
 }
 
 // The mean of the method's images over the centres, pixel by pixel in order (deterministic).

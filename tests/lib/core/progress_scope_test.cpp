@@ -1,8 +1,8 @@
-// A ProgressScope counts the chunks of the loops its thread starts (core/parallel.hpp): its
-// reports rise, stay below 1 until finish(), and ignore loops nested in a body.
+// A ProgressScope reports the loops its thread starts pass by pass (core/parallel.hpp): each
+// pass's chunks done rise to its total; loops nested in a body are not passes.
 #include <gtest/gtest.h>
 
-#include <algorithm>
+#include <tuple>
 #include <vector>
 
 #include "glintscope/core/parallel.hpp"
@@ -10,28 +10,34 @@
 namespace glintscope {
 namespace {
 
-TEST(ProgressScope, ReportsTheChunksDoneOfTheOuterLoopsRisingToOne) {
+TEST(ProgressScope, ReportsEachOuterLoopAsAPassWhoseChunksRiseToItsTotal) {
     const ThreadScope two(2);
-    std::vector<double> reports;
+    std::vector<std::tuple<std::size_t, std::size_t, std::size_t>> reports;  // pass, done, total
     {
-        ProgressScope scope([&](double fraction) { reports.push_back(fraction); });  // serialised by the scope
+        const ProgressScope scope([&](std::size_t pass, std::size_t done, std::size_t total) {
+            reports.emplace_back(pass, done, total);  // serialised by the scope
+        });
         parallel_for(10, 1, [](std::size_t, std::size_t) {});
-        ASSERT_FALSE(reports.empty());
-        EXPECT_EQ(reports.back(), 0.999);  // every started chunk done, but not finished
-        // A second loop of 30 chunks, each starting a nested loop of 5 that does not count.
+        // A second loop of 30 chunks, each starting a nested loop of 5 that is no pass.
         parallel_for(30, 1, [](std::size_t, std::size_t) { parallel_for(5, 1, [](std::size_t, std::size_t) {}); });
-        scope.finish();
-        scope.finish();  // once
+        parallel_for(3000, 1, [](std::size_t, std::size_t) {});  // reported per thousandth, not per chunk
     }
-    ASSERT_GE(reports.size(), 10u);
-    for (std::size_t k = 1; k < reports.size(); ++k) EXPECT_GT(reports[k], reports[k - 1]) << k;
-    EXPECT_EQ(reports.back(), 1.0);
-    EXPECT_EQ(reports.front(), 0.1);  // one chunk of the first ten
-    EXPECT_EQ(std::count(reports.begin(), reports.end(), 1.0), 1);
+    const std::vector<std::size_t> totals = {10, 30, 3000};
+    std::size_t k = 0;
+    for (std::size_t pass = 1; pass <= 3; ++pass) {
+        std::size_t previous = 0, count = 0;
+        for (; k < reports.size() && std::get<0>(reports[k]) == pass; ++k, ++count) {
+            EXPECT_EQ(std::get<2>(reports[k]), totals[pass - 1]);
+            EXPECT_GT(std::get<1>(reports[k]), previous) << "pass " << pass;
+            previous = std::get<1>(reports[k]);
+        }
+        EXPECT_EQ(previous, totals[pass - 1]) << "pass " << pass << " ends at its total";
+        EXPECT_EQ(count, pass == 3 ? 1000u : totals[pass - 1]) << "pass " << pass;
+    }
+    EXPECT_EQ(k, reports.size());  // three passes, no more
     // Outside the scope nothing is reported.
-    const std::size_t before = reports.size();
     parallel_for(10, 1, [](std::size_t, std::size_t) {});
-    EXPECT_EQ(reports.size(), before);
+    EXPECT_EQ(k, reports.size());
 }
 
 }  // namespace

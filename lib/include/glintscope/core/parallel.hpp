@@ -34,19 +34,19 @@ auto with_threads(int threads, const Body& body) {
     return body();
 }
 
-// Progress of a long call made while the scope lives on the constructing thread: every
-// parallel_for that thread starts (not those nested in a loop's body) counts its chunks as they
-// finish, and report(fraction) is called with the chunks done over the chunks of all the loops
-// started so far, rounded down to thousandths and only when that rises (so never decreasing,
-// and below 1 until finish() reports 1). Calls are serialised (from any of the loop's threads).
+// Progress of a long call made while the scope lives on the constructing thread, pass by pass:
+// every parallel_for that thread starts (not those nested in a loop's body) is a pass, numbered
+// from 1, and report(pass, done, total) is called as its chunks finish: done of its total
+// chunks, rising, whenever a thousandth more is done and at the last chunk. Calls are serialised
+// (they come from any of the loop's threads). The passes are reported as they come: the scope
+// cannot know how many more a method will start.
 class ProgressScope {
 public:
-    explicit ProgressScope(std::function<void(double fraction)> report);
+    using Report = std::function<void(std::size_t pass, std::size_t done, std::size_t total)>;
+    explicit ProgressScope(Report report);
     ~ProgressScope();
     ProgressScope(const ProgressScope&) = delete;
     ProgressScope& operator=(const ProgressScope&) = delete;
-
-    void finish();  // reports 1, once
 
     struct State;  // the counts, shared with the loops
 
