@@ -273,8 +273,9 @@ void add_validate_command(CLI::App& app) {
     command->add_option("--summary-csv", settings->summary_csv,
                         "The summary (mean and worst per model, K, order and wavelength) as CSV");
     command->add_option("--images", settings->images,
-                        "Write DIR/pair-N.png per compared pair: test, reference and their signed difference (a "
-                        "spectrum's: the mean over its wavelengths), and DIR/summary.png, error against K, when several K");
+                        "Write DIR/pair-N.png per compared pair: test and reference on one log scale (4 decades), "
+                        "and their signed difference (a spectrum's: the mean over its wavelengths), all zoomed to where "
+                        "either lobe exceeds 1e-3 of its peak; and DIR/summary.png, error against K, when several K");
     command->add_option("--convergence", settings->convergence,
                         "Instead: error against K = 1-4 (gabor vs fft) and against the FFT step, as CSV "
                         "(plot with scripts/plot-convergence.py)");
