@@ -147,8 +147,16 @@ void run(const ImageCommandSettings& settings, const std::string& heightfield, s
     if (method.empty()) method = default_method;
     LobeRun run;
     {
-        ProgressBar progress("footprints");
-        run = run_lobe(method, query, [&](std::size_t done, std::size_t total) { progress.update(done, total, ""); });
+        // One footprint reports each pass of the method's loops (pipeline.hpp): a count that falls
+        // back is the next pass, whose ETA counts from its start.
+        const bool single = query.footprints.single();
+        ProgressBar progress(single ? "computing" : "footprints");
+        std::size_t pass = 1, last = 0;
+        run = run_lobe(method, query, [&](std::size_t done, std::size_t total) {
+            if (single && done <= last) ++pass, progress.restart();
+            last = done;
+            progress.update(done, total, single ? "pass " + std::to_string(pass) : "");
+        });
     }
     LobeImage& image = run.image;
     // Said after the computation, so that bad input fails with its one line and nothing else.

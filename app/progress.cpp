@@ -17,6 +17,8 @@ ProgressBar::~ProgressBar() {
     if (drawn_) std::fputc('\n', stderr);
 }
 
+void ProgressBar::restart() { start_ = std::chrono::steady_clock::now(); }
+
 void ProgressBar::update(std::size_t done, std::size_t total, const std::string& what) {
     if (!shown_ || total == 0) return;
     constexpr int kWidth = 24;

@@ -22,6 +22,7 @@ public:
     ProgressBar& operator=(const ProgressBar&) = delete;
 
     void update(std::size_t done, std::size_t total, const std::string& what);
+    void restart();  // a new stage of the work: the ETA counts from now
 
 private:
     std::string title_;

@@ -92,6 +92,19 @@ void print_summary(const std::vector<ValidationSummary>& summary) {
                     s.mean_energy_ratio);
 }
 
+// A pair's picture zooms to where either lobe exceeds this fraction of its peak.
+constexpr double kPairZoomFraction = 1e-3;
+
+// Test and reference on a log scale of kPairDecades below the brighter one's peak: a narrow
+// lobe's peak and its tails both show.
+constexpr double kPairDecades = 4.0;
+LobeOutputOptions pair_picture_options() {
+    LobeOutputOptions options;
+    options.colour.log_scale = true;
+    options.colour.log_decades = kPairDecades;
+    return options;
+}
+
 // test | reference | test − reference (figure.hpp: write_difference_figure), titled with the
 // pair's relative L2 (its mean and worst over the wavelengths of a spectrum).
 void write_pair(const std::string& directory, std::size_t index, const ValidationPlan& plan, const ValidationRow& row,
@@ -108,31 +121,9 @@ void write_pair(const std::string& directory, std::size_t index, const Validatio
     std::snprintf(title, sizeof title, "%s against %s: centre %.1f,%.1f um, %s%s%s, %s", plan.test_method.c_str(),
                   plan.reference_method.c_str(), row.centre_um.x, row.centre_um.y, to_string(row.model).c_str(),
                   density.c_str(), order.c_str(), l2);
-    const LobeOutputOptions options;
-    write_difference_figure(test, reference, {title, "", plan.test_method, plan.reference_method, "difference"},
-                            directory + "/pair-" + std::to_string(index) + ".png", options);
-}
-
-// Error against K per model (and order), the mean over footprints and wavelengths, when several K ran.
-void write_summary_plot(const std::string& path, const ValidationPlan& plan, const std::vector<ValidationSummary>& summary) {
-    Plot plot{plan.test_method + " against " + plan.reference_method + ": error against kernels per texel K",
-              "K (kernels per texel)", "mean relative L2 [%]", {}, {}, true};
-    for (const ValidationSummary& s : summary) {
-        const std::string label = to_string(s.model) + (s.order ? ", order " + std::to_string(s.order) : "");
-        auto series = std::find_if(plot.series.begin(), plot.series.end(), [&](const PlotSeries& p) { return p.label == label; });
-        if (series == plot.series.end()) series = plot.series.insert(plot.series.end(), {label, {}, {}});
-        const std::size_t k = std::find(series->x.begin(), series->x.end(), double(s.kernels_per_texel)) - series->x.begin();
-        if (k == series->x.size()) {  // a new K: its mean over the wavelengths starts here
-            series->x.push_back(s.kernels_per_texel);
-            series->y.push_back(0.0);
-        }
-        series->y[k] += 100.0 * s.mean_relative_l2 / double(plan.base.wavelengths_um.size());
-    }
-    plot.caption.push_back("each point: the mean over " + std::to_string(summary.front().footprints) + " footprint" +
-                           (summary.front().footprints == 1 ? "" : "s") + " and " +
-                           std::to_string(plan.base.wavelengths_um.size()) + " wavelength" +
-                           (plan.base.wavelengths_um.size() == 1 ? "" : "s") + " of the relative L2 (validate's summary)");
-    write_plot(plot, path);
+    write_difference_figure(test, reference,
+                            {title, "", plan.test_method, plan.reference_method, "difference", kPairZoomFraction},
+                            directory + "/pair-" + std::to_string(index) + ".png", pair_picture_options());
 }
 
 // The albedo of the test and reference methods against incidence, for --models (default rohs and
@@ -172,20 +163,32 @@ void run_albedo(const ValidateSettings& settings, const ValidationPlan& plan) {
     write_plot(plot, settings.albedo);
 }
 
+// --images DIR is created only when the run starts: here, DIR is a folder or can be made in its
+// nearest existing ancestor (a writable folder).
+void check_images_folder(const std::string& folder) {
+    namespace fs = std::filesystem;
+    std::error_code error;
+    fs::path existing = fs::absolute(folder, error);
+    while (!existing.empty() && !fs::exists(existing, error) && existing != existing.parent_path()) existing = existing.parent_path();
+    if (!fs::is_directory(existing, error))
+        throw Error("--images '" + folder + "': '" + existing.string() + "' is not a folder");
+    check_output_path((existing / "pair-1.png").string(), {"png"}, "--images");
+}
+
 void run(const ValidateSettings& settings) {
     if (!settings.report.empty()) check_output_path(settings.report, {"json"}, "--report");
     if (!settings.csv.empty()) check_output_path(settings.csv, {"csv"}, "--csv");
     if (!settings.summary_csv.empty()) check_output_path(settings.summary_csv, {"csv"}, "--summary-csv");
-    if (!settings.images.empty()) {
-        std::error_code error;
-        std::filesystem::create_directories(settings.images, error);
-        if (error) throw Error("--images: cannot create the folder '" + settings.images + "': " + error.message());
-        check_output_path(settings.images + "/pair-1.png", {"png"}, "--images");
-    }
+    if (!settings.images.empty()) check_images_folder(settings.images);
     if (!settings.convergence.empty()) check_output_path(settings.convergence, {"csv"}, "--convergence");
     if (!settings.albedo.empty()) check_output_path(settings.albedo, {"png"}, "--albedo");
     const ValidationPlan plan = plan_of(settings);
     if (!settings.albedo.empty()) return run_albedo(settings, plan);
+    if (!settings.images.empty()) {  // created once everything else is known to be right
+        std::error_code error;
+        std::filesystem::create_directories(settings.images, error);
+        if (error) throw Error("--images: cannot create the folder '" + settings.images + "': " + error.message());
+    }
     for (const std::string& note : validation_notes(plan)) std::fprintf(stderr, "glintscope: note: %s\n", note.c_str());
     if (!settings.convergence.empty()) {
         std::vector<ConvergencePoint> points;
@@ -220,7 +223,7 @@ void run(const ValidateSettings& settings) {
         for (std::size_t k = 0; k < rows.size(); ++k)
             pictures.push_back("pair-" + std::to_string(k / plan.base.wavelengths_um.size() + 1) + ".png");
     if (!settings.images.empty() && plan.kernels_per_texel.size() > 1) {
-        write_summary_plot(settings.images + "/summary.png", plan, summary);
+        write_plot(error_against_k_plot(plan, summary), settings.images + "/summary.png");
         std::printf("\nerror against K: %s/summary.png\n", settings.images.c_str());
     }
     if (!settings.report.empty())
@@ -270,8 +273,9 @@ void add_validate_command(CLI::App& app) {
     command->add_option("--summary-csv", settings->summary_csv,
                         "The summary (mean and worst per model, K, order and wavelength) as CSV");
     command->add_option("--images", settings->images,
-                        "Write DIR/pair-N.png per compared pair: test, reference and their signed difference (a "
-                        "spectrum's: the mean over its wavelengths), and DIR/summary.png, error against K, when several K");
+                        "Write DIR/pair-N.png per compared pair: test and reference on one log scale (4 decades), "
+                        "and their signed difference (a spectrum's: the mean over its wavelengths), all zoomed to where "
+                        "either lobe exceeds 1e-3 of its peak; and DIR/summary.png, error against K, when several K");
     command->add_option("--convergence", settings->convergence,
                         "Instead: error against K = 1-4 (gabor vs fft) and against the FFT step, as CSV "
                         "(plot with scripts/plot-convergence.py)");

@@ -2,6 +2,7 @@
 // which is the same, bit for bit, as one run's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "cli_runner.hpp"
@@ -62,6 +63,19 @@ TEST(BatchCommand, AMalformedManifestComputesNothing) {
     EXPECT_NE(result.exit_code, 0);
     EXPECT_NE(result.output.find("bad.toml:7:"), std::string::npos) << result.output;  // where sigma_c is written
     EXPECT_NE(result.output.find("sigma_c"), std::string::npos) << result.output;
+    EXPECT_EQ(testing::count_entries(directory.path()), 1);  // nothing but the manifest
+}
+
+TEST(BatchCommand, AFigureIntoAMissingFolderFailsBeforeComputingAnyPanel) {
+    TemporaryDirectory directory;
+    // 4096² FFT panels would take minutes: the output's folder is checked first.
+    std::ofstream(directory.file("m.toml")) << "output = \"no/such/f.png\"\n[defaults]\nres = 4096\n[[row]]\nlabel = \"a\"\n"
+                                               "heightfield = \"builtin:grating\"\n[[column]]\nlabel = \"b\"\n";
+    const auto result = testing::run_cli({"batch", directory.file("m.toml")});
+    EXPECT_NE(result.exit_code, 0);
+    EXPECT_NE(result.output.find("output '" + directory.file("no/such/f.png") + "': directory"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("does not exist"), std::string::npos) << result.output;
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
     EXPECT_EQ(testing::count_entries(directory.path()), 1);  // nothing but the manifest
 }
 

@@ -2,6 +2,7 @@
 // input (nothing written), and its report and picture.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include <OpenImageIO/imageio.h>
@@ -77,6 +78,26 @@ TEST_F(CompareCommand, MismatchedImagesAreRefusedInOneLineWithStatusTwoAndNothin
     const auto bad_path = run_cli({"compare", a, a, "--diff", directory.file("no/such/d.png")});
     EXPECT_EQ(bad_path.exit_code, 2) << bad_path.output;
     EXPECT_NE(bad_path.output.find("--diff"), std::string::npos) << bad_path.output;
+}
+
+TEST_F(CompareCommand, BadOutputsFailInOneLineBeforeReadingTheInputs) {
+    // The inputs do not even exist: the outputs are judged first.
+    const std::string a = directory.file("a.exr"), b = directory.file("b.exr");
+    const std::vector<std::pair<std::vector<std::string>, std::string>> requests = {
+        {{"--diff", directory.file("d.jpg")}, "--diff '" + directory.file("d.jpg") + "': the file name must end in .png"},
+        {{"--diff", directory.file("no/d.png")}, "does not exist"},
+        {{"--json", directory.file("r.csv")}, "must end in .json"},
+        {{"--json", directory.file("no/r.json")}, "does not exist"},
+    };
+    for (const auto& [extra, message] : requests) {
+        std::vector<std::string> arguments = {"compare", a, b};
+        arguments.insert(arguments.end(), extra.begin(), extra.end());
+        const auto result = run_cli(arguments);
+        EXPECT_EQ(result.exit_code, 2) << message;
+        EXPECT_NE(result.output.find(message), std::string::npos) << result.output;
+        EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+        EXPECT_EQ(testing::count_entries(directory.path()), 0) << message;
+    }
 }
 
 TEST_F(CompareCommand, DiffPictureShowsBothInputsAndTheirDifference) {

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -49,6 +50,30 @@ TEST(ValidateCommand, AGridOfTwoValidatesFourFootprintsIntoANewImagesFolder) {
     EXPECT_FALSE(std::filesystem::exists(images + "/pair-5.png"));
 }
 
+// The report records its command line; run again (into another report) it gives the same rows.
+TEST(ValidateCommand, TheReportRerunsFromItsOwnCommandLine) {
+    TemporaryDirectory directory;
+    const std::string first = directory.file("first.json"), second = directory.file("second.json");
+    const auto result = run_cli({"validate", "builtin:isotropic", "--res", "24", "--kernels-per-texel", "1,2", "--footprints",
+                                 "2", "--lambda", "0.6um", "--report", first});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    const nlohmann::json original = nlohmann::json::parse(std::ifstream(first));
+    std::string line = original["command_line"];
+    ASSERT_EQ(line.rfind("glintscope ", 0), 0u) << line;
+    line.replace(0, std::string("glintscope").size(), testing::executable());
+    line.replace(line.find(first), first.size(), second);
+    const auto again = testing::run_shell(line);
+    ASSERT_EQ(again.exit_code, 0) << again.output;
+    const nlohmann::json rerun = nlohmann::json::parse(std::ifstream(second));
+    ASSERT_EQ(rerun["rows"].size(), 4u);  // 2 footprints × 2 K
+    ASSERT_EQ(rerun["rows"].size(), original["rows"].size());
+    for (std::size_t k = 0; k < rerun["rows"].size(); ++k) {
+        EXPECT_EQ(rerun["rows"][k]["relative_l2"], original["rows"][k]["relative_l2"]) << k;
+        EXPECT_EQ(rerun["rows"][k]["centre_um"], original["rows"][k]["centre_um"]) << k;
+    }
+    EXPECT_EQ(rerun["summary"], original["summary"]);
+}
+
 // --order 1,2 reports both Gabor orders side by side against one reference: at K = 1 the chirped
 // kernels are several times closer to the FFT (docs/gabor.md "Second order": 15-21% against
 // 0.75-0.9% on this surface); a third order is refused in one line.
@@ -79,10 +104,33 @@ TEST(ValidateCommand, OrdersOneAndTwoSideBySide) {
     EXPECT_NE(refused.output.find("--order"), std::string::npos) << refused.output;
 }
 
-TEST(ValidateCommand, AMissingReportDirectoryFailsBeforeComputing) {
-    const auto result = run_cli({"validate", "builtin:isotropic", "--report", "/no/such/dir/r.json"});
-    EXPECT_NE(result.exit_code, 0);
-    EXPECT_NE(result.output.find("does not exist"), std::string::npos) << result.output;
+// Every output is checked before computing: with --res 4096 --supersample 8 (minutes of FFT and
+// Gabor work) each bad output still fails in one line, and nothing is written, not even --images' folder.
+TEST(ValidateCommand, EveryBadOutputFailsInOneLineBeforeComputingAndWritesNothing) {
+    TemporaryDirectory directory;
+    std::ofstream(directory.file("plain.txt")) << "a file, not a folder\n";
+    const std::vector<std::string> heavy = {"validate", "builtin:isotropic", "--res", "4096", "--supersample", "8"};
+    const std::string missing = directory.file("no/such/dir");
+    const std::vector<std::pair<std::vector<std::string>, std::string>> requests = {
+        {{"--report", missing + "/r.json"}, "does not exist"},
+        {{"--report", directory.file("r.txt")}, "--report '" + directory.file("r.txt") + "': the file name must end in .json"},
+        {{"--csv", directory.file("rows.json")}, "must end in .csv"},
+        {{"--summary-csv", missing + "/s.csv"}, "does not exist"},
+        {{"--convergence", missing + "/c.csv"}, "does not exist"},
+        {{"--albedo", directory.file("albedo.jpg")}, "must end in .png"},
+        {{"--images", directory.file("plain.txt") + "/pictures"}, "is not a folder"},
+        {{"--images", directory.file("pictures"), "--models", "mie"}, "unknown diffraction model 'mie'"},
+        {{"--images", directory.file("pictures"), "--test-method", "raytrace"}, "unknown method 'raytrace'"},
+    };
+    for (const auto& [extra, message] : requests) {
+        std::vector<std::string> arguments = heavy;
+        arguments.insert(arguments.end(), extra.begin(), extra.end());
+        const auto result = run_cli(arguments);
+        EXPECT_NE(result.exit_code, 0) << message;
+        EXPECT_NE(result.output.find(message), std::string::npos) << result.output;
+        EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+        EXPECT_EQ(testing::count_entries(directory.path()), 1) << message;  // plain.txt only
+    }
 }
 
 }  // namespace

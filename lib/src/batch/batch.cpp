@@ -98,11 +98,13 @@ nlohmann::ordered_json albedo_record(const ManifestPanel& panel, const LobeImage
     return layers;
 }
 
-void write_record(const Manifest& manifest, const std::string& path, const std::vector<LobeImage>& images) {
+void write_record(const Manifest& manifest, const std::string& path, const std::vector<LobeImage>& images,
+                  const std::vector<std::string>& caption) {
     nlohmann::ordered_json record;
     record["format"] = "glintscope batch";
     record["manifest"] = manifest.path;
     record["title"] = manifest.title;
+    record["caption"] = caption;
     record["figure"] = figure_path(manifest).string();
     record["rows"] = manifest.row_labels;
     record["columns"] = manifest.column_labels;
@@ -132,6 +134,7 @@ void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchRe
     figure.row_labels = manifest.row_labels;
     figure.column_labels = manifest.column_labels;
     figure.exposure = manifest.exposure;
+    figure.style = manifest.style;
     figure.cells.assign(manifest.row_labels.size(), std::vector<const LobeImage*>(manifest.column_labels.size()));
     for (std::size_t k = 0; k < manifest.panels.size(); ++k)
         figure.cells[manifest.panels[k].row][manifest.panels[k].column] = &images[k];
@@ -145,9 +148,9 @@ void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchRe
     result.figure_path = figure_path(manifest).string();
     LobeOutputOptions figure_output = output;
     figure_output.colour.log_scale = figure_output.colour.log_scale || manifest.log_scale;
-    write_figure(figure, result.figure_path, figure_output);
+    const FigureLayout layout = write_figure(figure, result.figure_path, figure_output);
     result.record_path = result.figure_path.substr(0, result.figure_path.size() - 4) + ".json";
-    write_record(manifest, result.record_path, images);
+    write_record(manifest, result.record_path, images, layout.caption);
     result.assembled = true;
 }
 

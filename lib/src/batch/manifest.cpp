@@ -149,6 +149,17 @@ bool parse_log_scale(const std::string& path, const toml::table& root) {
     fail(path, root.get("scale")->source(), "scale", "'" + text + "' is not linear or log");
 }
 
+// "paper" needs a shared exposure (one colour bar per row), refused with per-panel at the style's line.
+FigureStyle parse_style(const std::string& path, const toml::table& root, SharedExposure exposure) {
+    const std::string text = string_value(path, root, "style", false);
+    if (text.empty() || text == "standard") return FigureStyle::standard;
+    if (text != "paper") fail(path, root.get("style")->source(), "style", "'" + text + "' is not standard or paper");
+    if (exposure == SharedExposure::per_panel)
+        fail(path, root.get("style")->source(), "style",
+             "a paper figure has one colour bar per row, which needs exposure shared-per-row or shared, not per-panel");
+    return FigureStyle::paper;
+}
+
 bool boolean_value(const std::string& path, const toml::table& root, const std::string& key) {
     const toml::node* node = root.get(key);
     if (!node) return false;
@@ -172,7 +183,7 @@ void check_values(const std::string& path, const Entry& entry, const std::string
 }
 
 const std::vector<std::string> kTopKeys = {"title",  "caption",  "output", "exposure", "scale",
-                                           "insets", "defaults", "row",    "column"};
+                                           "style",  "insets",   "defaults", "row",    "column"};
 
 }  // namespace
 
@@ -195,6 +206,7 @@ Manifest load_manifest(const std::string& path) {
     manifest.exposure = parse_exposure(path, root);
     manifest.log_scale = parse_log_scale(path, root);
     manifest.insets = boolean_value(path, root, "insets");
+    manifest.style = parse_style(path, root, manifest.exposure);
     Entry defaults;
     if (const toml::node* node = root.get("defaults")) {
         if (!node->is_table()) fail(path, node->source(), "defaults", "expected a [defaults] table");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -29,32 +30,45 @@ constexpr Colour kFootprint{1.0f, 0.1f, 0.55f};  // footprints on height maps (o
 constexpr int kBarWidth = 14;
 constexpr int kMinPanel = 320;
 
-// A circle of the unit disk's radius r (disk units) about the image centre, as a polyline.
-void circle(OIIO::ImageBuf& picture, int x0, int y0, int size, double r, const Colour& colour, bool dashed) {
-    const double half = 0.5 * size;
+// Where a panel draws its image: the square (x0, y0, size) of picture pixels showing the image
+// pixels `box` of an N×N image.
+struct DiskView {
+    int x0 = 0;
+    int y0 = 0;
+    int size = 0;
+    int n = 0;
+    PixelBox box;
+
+    double zoom() const { return double(size) / (box.col1 - box.col0); }
+    // The picture position of disk point (x, y): columns along +x, row 0 at y = +1 (map view).
+    std::pair<int, int> to_picture(double x, double y) const {
+        return {x0 + int(std::lround(((x + 1.0) * 0.5 * n - box.col0) * zoom())),
+                y0 + int(std::lround(((1.0 - y) * 0.5 * n - box.row0) * zoom()))};
+    }
+    bool contains(int x, int y) const { return x >= x0 && x < x0 + size && y >= y0 && y < y0 + size; }
+    OIIO::ROI roi() const { return OIIO::ROI(x0, x0 + size, y0, y0 + size); }
+};
+
+// A circle of radius r (disk units) about the disk's centre, as a polyline clipped to the view.
+void circle(OIIO::ImageBuf& picture, const DiskView& view, double r, const Colour& colour, bool dashed) {
     const int segments = 180;
     for (int k = 0; k < segments; ++k) {
         if (dashed && k % 2) continue;
         const double a0 = 2.0 * pi * k / segments, a1 = 2.0 * pi * (k + 1) / segments;
-        OIIO::ImageBufAlgo::render_line(picture, x0 + int(std::lround(half + r * half * std::cos(a0))),
-                                        y0 + int(std::lround(half - r * half * std::sin(a0))),
-                                        x0 + int(std::lround(half + r * half * std::cos(a1))),
-                                        y0 + int(std::lround(half - r * half * std::sin(a1))), colour);
+        const auto [xa, ya] = view.to_picture(r * std::cos(a0), r * std::sin(a0));
+        const auto [xb, yb] = view.to_picture(r * std::cos(a1), r * std::sin(a1));
+        OIIO::ImageBufAlgo::render_line(picture, xa, ya, xb, yb, colour, false, view.roi());
     }
 }
 
-// The image position of disk point (x, y): columns along +x, row 0 at y = +1 (map view).
-std::pair<int, int> disk_to_pixel(int x0, int y0, int size, double x, double y) {
-    return {x0 + int(std::lround((x + 1.0) * 0.5 * size)), y0 + int(std::lround((1.0 - y) * 0.5 * size))};
-}
-
 // A ring with four ticks, two pixels thick, visible on dark and bright lobes alike.
-void marker(OIIO::ImageBuf& picture, int x, int y, const Colour& colour) {
+void marker(OIIO::ImageBuf& picture, const DiskView& view, int x, int y, const Colour& colour) {
+    if (!view.contains(x, y)) return;
     for (int d = 0; d < 2; ++d) {
-        OIIO::ImageBufAlgo::render_line(picture, x - 12, y + d, x - 5, y + d, colour);
-        OIIO::ImageBufAlgo::render_line(picture, x + 5, y + d, x + 12, y + d, colour);
-        OIIO::ImageBufAlgo::render_line(picture, x + d, y - 12, x + d, y - 5, colour);
-        OIIO::ImageBufAlgo::render_line(picture, x + d, y + 5, x + d, y + 12, colour);
+        OIIO::ImageBufAlgo::render_line(picture, x - 12, y + d, x - 5, y + d, colour, false, view.roi());
+        OIIO::ImageBufAlgo::render_line(picture, x + 5, y + d, x + 12, y + d, colour, false, view.roi());
+        OIIO::ImageBufAlgo::render_line(picture, x + d, y - 12, x + d, y - 5, colour, false, view.roi());
+        OIIO::ImageBufAlgo::render_line(picture, x + d, y + 5, x + d, y + 12, colour, false, view.roi());
     }
 }
 
@@ -78,8 +92,10 @@ std::string wavelength_text(const LobeImage& lobe) {
            " nm, " + std::to_string(lobe.layers()) + " bins";
 }
 
+}  // namespace
+
 // Caption lines from the image's metadata (lobe::compute_lobe writes them).
-std::vector<std::string> caption_lines(const LobeImage& lobe) {
+std::vector<std::string> panel_caption(const LobeImage& lobe) {
     std::vector<std::string> first = {metadata(lobe, "method").empty() ? "?" : metadata(lobe, "method")};
     if (applies(lobe, "model") && lobe.quantity == Quantity::brdf && !metadata(lobe, "query.model").empty())
         first.push_back(metadata(lobe, "query.model"));
@@ -118,11 +134,12 @@ std::vector<std::string> caption_lines(const LobeImage& lobe) {
     return {join(first, ", "), join(surface, ", "), join(second, ", "), guides};
 }
 
+namespace {
+
 // Display value in [0, 1] of a scalar (one-wavelength or NDF) pixel under the exposure.
 double shown(double value, const DisplayExposure& exposure) {
     if (!exposure.log_scale) return value / exposure.white_level;
-    if (!(value > 0.0)) return 0.0;
-    return std::clamp(1.0 + std::log10(value / exposure.white_level) / exposure.log_decades, 0.0, 1.0);
+    return log_display_value(value, exposure.white_level, exposure.log_decades);
 }
 
 // A signed image (a difference of two lobes, compare.hpp, even where it is ≥ 0, or any image
@@ -144,12 +161,9 @@ DisplayExposure signed_exposure(const LobeImage& lobe) {
     return exposure;
 }
 
-// Moreland 2009's cool-warm diverging map (blue, grey, red in sRGB) at t in [−1, 1].
-Colour diverging(double t) {
-    constexpr Colour blue{0.230f, 0.299f, 0.754f}, middle{0.865f, 0.865f, 0.865f}, red{0.706f, 0.016f, 0.150f};
-    const float a = float(std::min(1.0, std::fabs(t)));
-    const Colour& end = t < 0.0 ? blue : red;
-    return {middle[0] + a * (end[0] - middle[0]), middle[1] + a * (end[1] - middle[1]), middle[2] + a * (end[2] - middle[2])};
+Colour diverging(double value, double scale) {
+    const SrgbColor c = difference_colour(value, scale);
+    return {c.r, c.g, c.b};
 }
 
 // The N×N display colours of the disk (and the number of disk pixels above white).
@@ -183,7 +197,7 @@ DiskColours disk_colours(const LobeImage& lobe, const LobeOutputOptions& options
             }
             const double value = lobe.at(0, row, col);
             if (signed_values) {
-                result.pixels[i] = diverging(value / exposure.white_level);
+                result.pixels[i] = diverging(value, exposure.white_level);
                 continue;
             }
             const double t = shown(value, exposure);
@@ -199,44 +213,61 @@ DiskColours disk_colours(const LobeImage& lobe, const LobeOutputOptions& options
     return result;
 }
 
-// Draws the disk image, zoomed by an integer factor to `size`, at (x0, y0), with the guides.
-void draw_disk(OIIO::ImageBuf& picture, int x0, int y0, int size, const LobeImage& lobe, const DiskColours& colours) {
-    const int n = lobe.resolution;
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            const std::size_t i = std::size_t(y * n / size) * n + std::size_t(x * n / size);
-            picture.setpixel(x0 + x, y0 + y, colours.pixels[i].data(), 3);
+// Draws the view's image pixels, zoomed to fill its square, with the guides that fall inside.
+void draw_disk(OIIO::ImageBuf& picture, const DiskView& view, const LobeImage& lobe, const DiskColours& colours, int font) {
+    const int n = lobe.resolution, side = view.box.col1 - view.box.col0;
+    for (int y = 0; y < view.size; ++y)
+        for (int x = 0; x < view.size; ++x) {
+            const std::size_t i =
+                std::size_t(view.box.row0 + y * side / view.size) * n + std::size_t(view.box.col0 + x * side / view.size);
+            picture.setpixel(view.x0 + x, view.y0 + y, colours.pixels[i].data(), 3);
         }
-    circle(picture, x0, y0, size, 1.0, kGuide, false);
-    circle(picture, x0, y0, size, std::sin(pi / 6.0), kGuide, true);
-    circle(picture, x0, y0, size, std::sin(pi / 3.0), kGuide, true);
-    text(picture, x0 + size / 2 + 3, y0 + int(0.5 * size * (1.0 - std::sin(pi / 6.0))) + 2, "30 deg", kGuide,
-         OIIO::ImageBufAlgo::TextAlignX::Left, 11);
-    text(picture, x0 + size / 2 + 3, y0 + int(0.5 * size * (1.0 - std::sin(pi / 3.0))) + 2, "60 deg", kGuide,
-         OIIO::ImageBufAlgo::TextAlignX::Left, 11);
+    circle(picture, view, 1.0, kGuide, false);
+    for (const double theta_deg : {30.0, 60.0}) {
+        circle(picture, view, std::sin(theta_deg * pi / 180.0), kGuide, true);
+        const auto [x, y] = view.to_picture(0.0, std::sin(theta_deg * pi / 180.0));
+        if (view.contains(x, y) && view.contains(x + 4 * font, y + font))
+            text(picture, x + 3, y + 2, number(theta_deg) + " deg", kGuide, OIIO::ImageBufAlgo::TextAlignX::Left,
+                 font * 11 / kFont);
+    }
     if (lobe.quantity == Quantity::brdf) {
         // Mirror direction of ω_i: −ω̄_i (conventions.md), if the query recorded ω_i.
         const std::vector<std::string> parts = split(metadata(lobe, "query.omega_i"), ',');
         if (parts.size() == 3) {
-            const auto [x, y] = disk_to_pixel(x0, y0, size, -parse_number(parts[0]), -parse_number(parts[1]));
-            marker(picture, x, y, kMarker);
+            const auto [x, y] = view.to_picture(-parse_number(parts[0]), -parse_number(parts[1]));
+            marker(picture, view, x, y, kMarker);
         }
     } else {
-        const auto [x, y] = disk_to_pixel(x0, y0, size, 0.0, 0.0);
-        marker(picture, x, y, kMarker);
+        const auto [x, y] = view.to_picture(0.0, 0.0);
+        marker(picture, view, x, y, kMarker);
     }
 }
 
-// A vertical colour bar from 0 (or the log floor) to white, labelled, at (x0, y0).
-int draw_colour_bar(OIIO::ImageBuf& picture, int x0, int y0, int height, const LobeImage& lobe,
-                    const LobeOutputOptions& options, const DisplayExposure& exposure) {
+// The colour bar's label: the quantity and units, "difference" for a signed image, and on a
+// log scale the decades it shows.
+std::string bar_unit(const LobeImage& lobe, const DisplayExposure& exposure) {
+    const QuantityLabels& label = labels(lobe.quantity);
+    return (is_signed(lobe) ? "difference " : "") + label.symbol + (label.units == "1" ? "" : " [" + label.units + "]") +
+           (exposure.log_scale && !is_signed(lobe) ? ", log, " + number(exposure.log_decades) + " decades" : "");
+}
+
+double bar_bottom(const LobeImage& lobe, const DisplayExposure& exposure) {
+    return is_signed(lobe)        ? -exposure.white_level
+           : exposure.log_scale ? exposure.white_level * std::pow(10.0, -exposure.log_decades)
+                                : 0.0;
+}
+
+// A vertical colour bar from 0 (or the log floor, or −max for a difference) to white, labelled,
+// at (x0, y0); returns its rectangle.
+PixelRect draw_colour_bar(OIIO::ImageBuf& picture, int x0, int y0, int height, const LobeImage& lobe,
+                          const LobeOutputOptions& options, const DisplayExposure& exposure, int font) {
     const ColorMap map = options.colormap == "viridis" ? ColorMap::viridis : ColorMap::inferno;
     const bool signed_values = is_signed(lobe);
     for (int y = 0; y < height; ++y) {
         const double t = 1.0 - (y + 0.5) / height;
         Colour c{float(t), float(t), float(t)};
         if (signed_values) {
-            c = diverging(2.0 * t - 1.0);
+            c = diverging(2.0 * t - 1.0, 1.0);
         } else if (options.colormap != "grey") {
             const SrgbColor m = map_color(map, t);
             c = {m.r, m.g, m.b};
@@ -244,51 +275,80 @@ int draw_colour_bar(OIIO::ImageBuf& picture, int x0, int y0, int height, const L
         for (int x = 0; x < kBarWidth; ++x) picture.setpixel(x0 + x, y0 + y, c.data(), 3);
     }
     OIIO::ImageBufAlgo::render_box(picture, x0 - 1, y0 - 1, x0 + kBarWidth, y0 + height, kBlack);
-    const QuantityLabels& label = labels(lobe.quantity);
-    const double bottom = signed_values        ? -exposure.white_level
-                          : exposure.log_scale ? exposure.white_level * std::pow(10.0, -exposure.log_decades)
-                                               : 0.0;
-    text(picture, x0 + kBarWidth + 4, y0 - 2, number(exposure.white_level));
-    text(picture, x0 + kBarWidth + 4, y0 + height - kFont - 2, number(bottom));
-    const std::string unit = (signed_values ? "difference " : "") + label.symbol +
-                             (label.units == "1" ? "" : " [" + label.units + "]") + (exposure.log_scale ? ", log" : "");
-    text(picture, x0 + kBarWidth + 4, y0 + height / 2 - kFont / 2, unit);
-    return kBarWidth + 8 + std::max({text_width(number(exposure.white_level)), text_width(number(bottom)), text_width(unit)});
+    text(picture, x0 + kBarWidth + 4, y0 - 2, number(exposure.white_level), kBlack, OIIO::ImageBufAlgo::TextAlignX::Left, font);
+    text(picture, x0 + kBarWidth + 4, y0 + height - font - 2, number(bar_bottom(lobe, exposure)), kBlack,
+         OIIO::ImageBufAlgo::TextAlignX::Left, font);
+    text(picture, x0 + kBarWidth + 4, y0 + height / 2 - font / 2, bar_unit(lobe, exposure), kBlack,
+         OIIO::ImageBufAlgo::TextAlignX::Left, font);
+    return {x0, y0, kBarWidth, height};
 }
 
-int bar_space(const LobeImage& lobe, const DisplayExposure& exposure) {
+// The width a colour bar and its labels take beside a disk.
+int bar_space(const LobeImage& lobe, const DisplayExposure& exposure, int font) {
     if (spectral(lobe)) return 0;
-    const QuantityLabels& label = labels(lobe.quantity);
-    const std::string unit = "difference " + label.symbol + (label.units == "1" ? "" : " [" + label.units + "]");
-    return kMargin + kBarWidth + 8 + std::max(text_width(number(exposure.white_level)), text_width(unit));
+    return kMargin + kBarWidth + 8 +
+           std::max({text_width(number(exposure.white_level), font), text_width(number(bar_bottom(lobe, exposure)), font),
+                     text_width(bar_unit(lobe, exposure), font)});
 }
 
 std::string exposure_line(const LobeImage& lobe, const DisplayExposure& exposure) {
     if (!spectral(lobe)) return "";
     return "exposure " + number(exposure.ev) + " EV: white = " + number(exposure.white_level) + " " +
-           labels(lobe.quantity).units + (exposure.log_scale ? ", log scale" : "");
+           labels(lobe.quantity).units + (exposure.log_scale ? ", log scale, " + number(exposure.log_decades) + " decades" : "");
 }
 
 std::string clip_line(std::size_t clipped) {
     return clipped ? std::to_string(clipped) + " pixel" + (clipped == 1 ? "" : "s") + " above white (clipped)" : "";
 }
 
+// How a panel is drawn: its type size, whether it carries its own colour bar, the image pixels shown.
+struct PanelStyle {
+    int font = kFont;
+    bool colour_bar = true;
+    PixelBox view;  // {}: the whole image
+};
+
+// The caption lines every non-empty cell has, removed from the cells (in the first cell's order).
+std::vector<std::string> shared_lines(const std::vector<std::vector<const LobeImage*>>& cells,
+                                      std::vector<std::vector<std::vector<std::string>>>& lines) {
+    std::vector<std::string> common;
+    bool first = true;
+    for (std::size_t r = 0; r < cells.size(); ++r)
+        for (std::size_t c = 0; c < cells[r].size(); ++c) {
+            if (!cells[r][c]) continue;
+            if (first) common = lines[r][c];
+            std::erase_if(common, [&](const std::string& line) {
+                return std::find(lines[r][c].begin(), lines[r][c].end(), line) == lines[r][c].end();
+            });
+            first = false;
+        }
+    for (auto& row : lines)
+        for (auto& cell : row)
+            std::erase_if(cell, [&](const std::string& line) { return std::find(common.begin(), common.end(), line) != common.end(); });
+    return common;
+}
+
+PixelBox whole_or(const PixelBox& view, int resolution) { return view.empty() ? PixelBox{0, 0, resolution, resolution} : view; }
+
 // One annotated panel: the disk with guides, its colour bar, and `lines` of caption below.
 OIIO::ImageBuf panel(const LobeImage& lobe, const LobeOutputOptions& options, const DisplayExposure& exposure,
-                     std::vector<std::string> lines) {
+                     std::vector<std::string> lines, const PanelStyle& style = {}) {
     const int size = panel_size(lobe.resolution);
     const DiskColours colours = disk_colours(lobe, options, exposure);
     lines.push_back(exposure_line(lobe, exposure));
     lines.push_back(clip_line(colours.clipped));
     lines.erase(std::remove(lines.begin(), lines.end(), std::string()), lines.end());
-    int width = kMargin + size + bar_space(lobe, exposure) + kMargin;
-    for (const std::string& line : lines) width = std::max(width, 2 * kMargin + text_width(line));
-    const int line_height = kFont + 5;
+    int width = kMargin + size + (style.colour_bar ? bar_space(lobe, exposure, style.font) : 0) + kMargin;
+    for (const std::string& line : lines) width = std::max(width, 2 * kMargin + text_width(line, style.font));
+    const int line_height = style.font + 5;
     OIIO::ImageBuf picture = blank(width, kMargin + size + kMargin + int(lines.size()) * line_height + kMargin);
-    draw_disk(picture, kMargin, kMargin, size, lobe, colours);
-    if (!spectral(lobe)) draw_colour_bar(picture, kMargin + size + kMargin, kMargin, size, lobe, options, exposure);
+    draw_disk(picture, {kMargin, kMargin, size, lobe.resolution, whole_or(style.view, lobe.resolution)}, lobe, colours,
+              style.font);
+    if (!spectral(lobe) && style.colour_bar)
+        draw_colour_bar(picture, kMargin + size + kMargin, kMargin, size, lobe, options, exposure, style.font);
     for (std::size_t k = 0; k < lines.size(); ++k)
-        text(picture, kMargin, kMargin + size + kMargin + int(k) * line_height, lines[k]);
+        text(picture, kMargin, kMargin + size + kMargin + int(k) * line_height, lines[k], kBlack,
+             OIIO::ImageBufAlgo::TextAlignX::Left, style.font);
     return picture;
 }
 
@@ -425,6 +485,55 @@ int panel_size(int resolution) {
     return resolution * zoom;
 }
 
+PixelBox lobe_bounding_box(const std::vector<const LobeImage*>& images, double fraction) {
+    PixelBox box{INT_MAX, INT_MAX, 0, 0};
+    for (const LobeImage* image : images) {
+        if (!image) continue;
+        const int n = image->resolution;
+        for (std::size_t layer = 0; layer < image->layers(); ++layer) {
+            float peak = 0.0f;
+            for (int row = 0; row < n; ++row)
+                for (int col = 0; col < n; ++col)
+                    if (inside_unit_disk(disk_pixel_point(row, col, n)) && std::isfinite(image->at(layer, row, col)))
+                        peak = std::max(peak, image->at(layer, row, col));
+            if (!(peak > 0.0f)) continue;
+            for (int row = 0; row < n; ++row)
+                for (int col = 0; col < n; ++col)
+                    if (inside_unit_disk(disk_pixel_point(row, col, n)) && image->at(layer, row, col) >= fraction * peak) {
+                        box.row0 = std::min(box.row0, row), box.row1 = std::max(box.row1, row + 1);
+                        box.col0 = std::min(box.col0, col), box.col1 = std::max(box.col1, col + 1);
+                    }
+        }
+    }
+    return box.empty() ? PixelBox{} : box;
+}
+
+PixelBox zoom_square(const PixelBox& box, int resolution, double margin) {
+    if (box.empty()) return {0, 0, resolution, resolution};
+    const int extent = std::max(box.row1 - box.row0, box.col1 - box.col0);
+    const int pad = std::max(2, int(std::ceil(margin * extent)));
+    const int side = extent + 2 * pad;
+    if (side >= resolution) return {0, 0, resolution, resolution};
+    // The square about the box's centre, shifted back inside [0, N).
+    const auto start = [&](int low, int high) { return std::clamp((low + high - side) / 2, 0, resolution - side); };
+    const int row0 = start(box.row0, box.row1), col0 = start(box.col0, box.col1);
+    return {row0, col0, row0 + side, col0 + side};
+}
+
+double log_display_value(double value, double white_level, double decades) {
+    if (!(value > 0.0)) return 0.0;
+    return std::clamp(1.0 + std::log10(value / white_level) / decades, 0.0, 1.0);
+}
+
+SrgbColor difference_colour(double value, double scale) {
+    // Moreland 2009's cool-warm end points and its grey middle, in sRGB.
+    constexpr Colour blue{0.230f, 0.299f, 0.754f}, middle{0.865f, 0.865f, 0.865f}, red{0.706f, 0.016f, 0.150f};
+    const double t = value / scale;
+    const float a = float(std::min(1.0, std::fabs(t)));
+    const Colour& end = t < 0.0 ? blue : red;
+    return {middle[0] + a * (end[0] - middle[0]), middle[1] + a * (end[1] - middle[1]), middle[2] + a * (end[2] - middle[2])};
+}
+
 DisplayExposure shared_exposure(const std::vector<const LobeImage*>& images, const ColourSettings& settings) {
     DisplayExposure brightest;
     bool first = true;
@@ -441,7 +550,7 @@ DisplayExposure shared_exposure(const std::vector<const LobeImage*>& images, con
 void write_lobe_picture(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options) {
     if (file_extension(path) != "png") throw Error("cannot write '" + path + "': a PNG file name must end in .png");
     const DisplayExposure exposure = exposure_of(lobe, options.colour);
-    OIIO::ImageBuf picture = panel(lobe, options, exposure, caption_lines(lobe));
+    OIIO::ImageBuf picture = panel(lobe, options, exposure, panel_caption(lobe));
     Provenance metadata = lobe.metadata;
     metadata["output.exposure_ev"] = shortest_text(exposure.ev);
     metadata["output.exposure_rule"] = exposure.rule;
@@ -462,6 +571,13 @@ FigureLayout write_figure(const Figure& figure, const std::string& path, const L
             }
     }
     if (!resolution) throw Error("cannot write '" + path + "': every cell of the figure is empty");
+    if (figure.style == FigureStyle::paper && figure.exposure == SharedExposure::per_panel)
+        throw Error("cannot write '" + path + "': a paper figure has one colour bar per row, which needs a shared exposure "
+                    "(per row or for the whole figure), not one per panel");
+    const PixelBox& view = figure.view;
+    if (!view.empty() && (view.row1 - view.row0 != view.col1 - view.col0 || view.row0 < 0 || view.col0 < 0 ||
+                          view.row1 > resolution || view.col1 > resolution))
+        throw Error("cannot write '" + path + "': the zoomed view is not a square inside the image");
 
     // Exposures: per panel, per row, or one for the figure (each shared among panels of one quantity).
     std::vector<std::vector<DisplayExposure>> exposures(figure.cells.size(), std::vector<DisplayExposure>(columns));
@@ -494,15 +610,37 @@ FigureLayout write_figure(const Figure& figure, const std::string& path, const L
     }
     if (figure.exposure == SharedExposure::whole_figure) share(all);
 
-    // Panels: each cell drawn with its own second caption line (λ, angles, footprint).
+    // Caption lines per cell; a paper figure states the lines every panel repeats once, in its caption.
+    const bool paper = figure.style == FigureStyle::paper;
+    const int font = paper ? 20 : kFont;
+    std::vector<std::vector<std::vector<std::string>>> cell_lines(figure.cells.size(), std::vector<std::vector<std::string>>(columns));
+    for (std::size_t r = 0; r < figure.cells.size(); ++r)
+        for (std::size_t c = 0; c < columns; ++c)
+            if (figure.cells[r][c]) cell_lines[r][c] = panel_caption(*figure.cells[r][c]);
+    std::vector<std::string> common;
+    if (paper) common = shared_lines(figure.cells, cell_lines);
+
+    // Panels: each cell drawn with the caption lines its own (λ, angles, footprint).
     std::vector<std::vector<OIIO::ImageBuf>> panels(figure.cells.size());
     int cell_width = 0, cell_height = 0;
     for (std::size_t r = 0; r < figure.cells.size(); ++r)
         for (std::size_t c = 0; c < columns; ++c) {
             const LobeImage* image = figure.cells[r][c];
-            panels[r].push_back(image ? panel(*image, options, exposures[r][c], caption_lines(*image)) : blank(1, 1));
+            // In a paper figure a difference keeps its own bar (its scale is its own); the others share the row's.
+            const PanelStyle style{font, !paper || (image && is_signed(*image)), figure.view};
+            panels[r].push_back(image ? panel(*image, options, exposures[r][c], cell_lines[r][c], style) : blank(1, 1));
             cell_width = std::max(cell_width, panels[r].back().spec().width);
             cell_height = std::max(cell_height, panels[r].back().spec().height);
+        }
+    // A paper figure's row bar: the row's shared exposure, right of its panels.
+    std::vector<const LobeImage*> row_bar(figure.cells.size(), nullptr);
+    int row_bar_width = 0;
+    if (paper)
+        for (std::size_t r = 0; r < figure.cells.size(); ++r) {
+            for (std::size_t c = 0; c < columns && !row_bar[r]; ++c) {
+                const LobeImage* image = figure.cells[r][c];
+                if (image && !is_signed(*image) && !spectral(*image)) row_bar[r] = image, row_bar_width = std::max(row_bar_width, bar_space(*image, exposures[r][c], font));
+            }
         }
     // Heightfield insets: one more column on the left, each row's surface with its footprint.
     const bool insets = std::any_of(figure.insets.begin(), figure.insets.end(),
@@ -517,9 +655,9 @@ FigureLayout write_figure(const Figure& figure, const std::string& path, const L
             inset_width = std::max(inset_width, inset_panels.back().spec().width);
         }
     int label_width = 0;
-    for (const std::string& label : figure.row_labels) label_width = std::max(label_width, text_width(label) + 2 * kMargin);
-    const int title_height = figure.title.empty() ? kMargin : kFont + 4 + 2 * kMargin;
-    const int header_height = figure.column_labels.empty() ? 0 : kFont + 2 * kMargin;
+    for (const std::string& label : figure.row_labels) label_width = std::max(label_width, text_width(label, font) + 2 * kMargin);
+    const int title_height = figure.title.empty() ? kMargin : font + 4 + 2 * kMargin;
+    const int header_height = figure.column_labels.empty() ? 0 : font + 2 * kMargin;
     const std::string rule = figure.exposure == SharedExposure::per_panel ? "each panel exposed on its own"
                            : figure.exposure == SharedExposure::per_row   ? "one exposure per row"
                                                                           : "one exposure for the whole figure";
@@ -527,29 +665,48 @@ FigureLayout write_figure(const Figure& figure, const std::string& path, const L
     for (const auto& row : figure.cells)
         for (const LobeImage* image : row) differences = differences || (image && is_signed(*image));
     const std::string rules = differences ? rule + ", differences each on their own scale symmetric about 0" : rule;
-    const std::string caption = figure.caption.empty() ? rules : figure.caption + "; " + rules;
-    const int width = std::max(label_width + inset_width + int(columns) * cell_width, 2 * kMargin + text_width(caption));
-    const int height = title_height + header_height + int(figure.cells.size()) * cell_height + kFont + 3 * kMargin;
+    std::vector<std::string> caption = {figure.caption.empty() ? rules : figure.caption + "; " + rules};
+    if (!figure.view_note.empty()) caption.push_back(figure.view_note);
+    caption.insert(caption.end(), common.begin(), common.end());
+    int caption_width = 0;
+    for (const std::string& line : caption) caption_width = std::max(caption_width, 2 * kMargin + text_width(line, font));
+    const int line_height = font + 5;
+    const int width = std::max(label_width + inset_width + int(columns) * cell_width + row_bar_width, caption_width);
+    const int height = title_height + header_height + int(figure.cells.size()) * cell_height +
+                       int(caption.size()) * line_height + 2 * kMargin;
     OIIO::ImageBuf canvas = blank(width, height);
-    text(canvas, width / 2, kMargin, figure.title, kBlack, OIIO::ImageBufAlgo::TextAlignX::Center, kFont + 4);
+    text(canvas, width / 2, kMargin, figure.title, kBlack, OIIO::ImageBufAlgo::TextAlignX::Center, font + 4);
     if (insets)
         text(canvas, label_width + inset_width / 2, title_height + kMargin / 2, "heightfield and footprint", kBlack,
-             OIIO::ImageBufAlgo::TextAlignX::Center);
+             OIIO::ImageBufAlgo::TextAlignX::Center, font);
     for (std::size_t c = 0; c < figure.column_labels.size() && c < columns; ++c)
         text(canvas, label_width + inset_width + int(c) * cell_width + cell_width / 2, title_height + kMargin / 2,
-             figure.column_labels[c], kBlack, OIIO::ImageBufAlgo::TextAlignX::Center);
-    FigureLayout layout{width, height, std::vector<std::vector<PixelSquare>>(figure.cells.size())};
+             figure.column_labels[c], kBlack, OIIO::ImageBufAlgo::TextAlignX::Center, font);
+    FigureLayout layout{width, height, std::vector<std::vector<PixelSquare>>(figure.cells.size()),
+                        whole_or(figure.view, resolution), {}, caption};
+    const int size = panel_size(resolution);
     for (std::size_t r = 0; r < figure.cells.size(); ++r) {
         const int y = title_height + header_height + int(r) * cell_height;
-        if (r < figure.row_labels.size()) text(canvas, kMargin, y + cell_height / 2 - kFont, figure.row_labels[r]);
+        if (r < figure.row_labels.size())
+            text(canvas, kMargin, y + cell_height / 2 - font, figure.row_labels[r], kBlack, OIIO::ImageBufAlgo::TextAlignX::Left, font);
         if (r < inset_panels.size()) paste(canvas, inset_panels[r], label_width, y);
         for (std::size_t c = 0; c < columns; ++c) {
             const int x = label_width + inset_width + int(c) * cell_width;
-            if (figure.cells[r][c]) paste(canvas, panels[r][c], x, y);
-            layout.disks[r].push_back({x + kMargin, y + kMargin, panel_size(resolution)});  // panel(): the disk's place
+            const LobeImage* image = figure.cells[r][c];
+            if (image) paste(canvas, panels[r][c], x, y);
+            layout.disks[r].push_back({x + kMargin, y + kMargin, size});  // panel(): the disk's place
+            if (image && !spectral(*image) && (!paper || is_signed(*image)))
+                layout.colour_bars.push_back({x + kMargin + size + kMargin, y + kMargin, kBarWidth, size});
+        }
+        if (row_bar[r]) {
+            const std::size_t c = std::find(figure.cells[r].begin(), figure.cells[r].end(), row_bar[r]) - figure.cells[r].begin();
+            layout.colour_bars.push_back(draw_colour_bar(canvas, label_width + inset_width + int(columns) * cell_width + kMargin,
+                                                         y + kMargin, size, *row_bar[r], options, exposures[r][c], font));
         }
     }
-    text(canvas, kMargin, height - kFont - 2 * kMargin, caption);
+    for (std::size_t k = 0; k < caption.size(); ++k)
+        text(canvas, kMargin, height - kMargin - int(caption.size() - k) * line_height, caption[k], kBlack,
+             OIIO::ImageBufAlgo::TextAlignX::Left, font);
     write_png(canvas, path);
     return layout;
 }
@@ -587,6 +744,19 @@ FigureLayout write_difference_figure(const LobeImage& test, const LobeImage& ref
                                                      std::to_string(test.layers()) + " wavelengths)"};
     figure.cells = {{&test, &reference, &difference}};
     figure.exposure = SharedExposure::per_row;  // test and reference alike; the difference on its own scale
+    if (labels.zoom_fraction > 0.0) {
+        figure.view = zoom_square(lobe_bounding_box({&test, &reference}, labels.zoom_fraction), test.resolution, 0.25);
+        const PixelBox& v = figure.view;
+        const DiskPoint top_left = disk_pixel_point(v.row0, v.col0, test.resolution);
+        const DiskPoint bottom_right = disk_pixel_point(v.row1 - 1, v.col1 - 1, test.resolution);
+        const double half_pixel = 1.0 / test.resolution;
+        figure.view_note = v.row1 - v.row0 == test.resolution
+                               ? "whole disk shown: the lobes reach " + number(labels.zoom_fraction) + " of their peaks near its edge"
+                               : "zoomed to where either lobe exceeds " + number(labels.zoom_fraction) +
+                                     " of its peak, with a margin: disk x " + number(top_left.x - half_pixel) + " to " +
+                                     number(bottom_right.x + half_pixel) + ", y " + number(bottom_right.y - half_pixel) +
+                                     " to " + number(top_left.y + half_pixel);
+    }
     return write_figure(figure, path, options);
 }
 

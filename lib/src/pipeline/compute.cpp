@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/core/version.hpp"
 #include "glintscope/lobe/query_keys.hpp"
@@ -80,6 +81,13 @@ LobeImage compute_one(const MethodEntry& entry, const LobeQuery& query) {
         const std::string& name = entry.info.name;
         throw Error(what.starts_with(name + ": ") ? what : name + ": " + what);
     }
+}
+
+// One footprint, its progress reported per pass of the method's heavy loops (core/parallel.hpp).
+LobeImage compute_single(const MethodEntry& entry, const LobeQuery& query, const RunProgress& progress) {
+    if (!progress) return compute_one(entry, query);
+    const ProgressScope scope([&](std::size_t, std::size_t done, std::size_t total) { progress(done, total); });
+    return compute_one(entry, query);
 }
 
 // The mean of the method's images over the centres, pixel by pixel in order (deterministic).
@@ -249,7 +257,8 @@ LobeRun run_lobe(const std::string& method, const LobeQuery& query, const RunPro
     const MethodEntry& entry = find_method(method);
     const auto start = std::chrono::steady_clock::now();
     LobeRun run;
-    run.image = plan.query.footprints.single() ? compute_one(entry, plan.query) : mean_over_centres(entry, plan, progress);
+    run.image = plan.query.footprints.single() ? compute_single(entry, plan.query, progress)
+                                                : mean_over_centres(entry, plan, progress);
     run.image.quantity = plan.query.quantity;
     label(run.image, entry.info, plan.query);
     run.image.metadata["version"] = version();

@@ -195,6 +195,29 @@ std::vector<ValidationSummary> summarize_validation(const std::vector<Validation
     return summary;
 }
 
+Plot error_against_k_plot(const ValidationPlan& plan, const std::vector<ValidationSummary>& summary) {
+    if (summary.empty()) throw Error("the summary figure needs at least one summary row");
+    Plot plot{plan.test_method + " against " + plan.reference_method + ": error against kernels per texel K",
+              "K (kernels per texel)", "mean relative L2 [%]", {}, {}, true};
+    const std::size_t wavelengths = plan.base.wavelengths_um.size();
+    for (const ValidationSummary& s : summary) {
+        const std::string label = to_string(s.model) + (s.order ? ", order " + std::to_string(s.order) : "");
+        auto series = std::find_if(plot.series.begin(), plot.series.end(), [&](const PlotSeries& p) { return p.label == label; });
+        if (series == plot.series.end()) series = plot.series.insert(plot.series.end(), {label, {}, {}});
+        const std::size_t k = std::find(series->x.begin(), series->x.end(), double(s.kernels_per_texel)) - series->x.begin();
+        if (k == series->x.size()) {  // a new K: its mean over the wavelengths starts here
+            series->x.push_back(s.kernels_per_texel);
+            series->y.push_back(0.0);
+        }
+        series->y[k] += 100.0 * s.mean_relative_l2 / double(wavelengths);
+    }
+    const std::size_t footprints = summary.front().footprints;
+    plot.caption.push_back("each point: the mean over " + std::to_string(footprints) + " footprint" +
+                           (footprints == 1 ? "" : "s") + " and " + std::to_string(wavelengths) + " wavelength" +
+                           (wavelengths == 1 ? "" : "s") + " of the relative L2 (validate's summary)");
+    return plot;
+}
+
 const std::vector<std::string>& validation_column_definitions() {
     static const std::vector<std::string> columns = {
         "rel L2: sqrt(sum (t - r)^2) / sqrt(sum r^2) over the disk's pixels (t test, r reference)",

@@ -2,6 +2,7 @@
 // same figure as one run, bit for bit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -146,6 +147,10 @@ TEST(Batch, MalformedManifestsNameFileLineAndKey) {
     EXPECT_NE(manifest_error("scale = \"sideways\"\n" + head + column).find("m.toml:1: key 'scale': 'sideways' is not linear or log"),
               std::string::npos);
     EXPECT_NE(manifest_error(head + column + "method = \"pndf\"\n").find("does not compute brdf"), std::string::npos);
+    EXPECT_NE(manifest_error("style = \"poster\"\n" + head + column).find("m.toml:1: key 'style': 'poster' is not standard or paper"),
+              std::string::npos);
+    EXPECT_NE(manifest_error("exposure = \"per-panel\"\nstyle = \"paper\"\n" + head + column).find("m.toml:2: key 'style'"),
+              std::string::npos);
     // The line the value is written on: in [defaults], and a material's name.
     EXPECT_NE(manifest_error("output = \"f.png\"\n[defaults]\nsigma_c = 5\nres = \"big\"\n" + head.substr(head.find('\n') + 1) + column)
                   .find("m.toml:4: key 'res': query key res"),
@@ -153,6 +158,29 @@ TEST(Batch, MalformedManifestsNameFileLineAndKey) {
     const std::string material = manifest_error(head + column + "material = \"Xx\"\n");
     EXPECT_NE(material.find("m.toml:7: key 'material'"), std::string::npos) << material;
     EXPECT_NE(material.find("unknown material 'Xx'"), std::string::npos) << material;
+}
+
+TEST(Batch, APaperFigureHasOneColourBarPerRowAndItsRecordCarriesTheSharedLegend) {
+    TemporaryDirectory directory;
+    const std::string text = read_bytes(small_manifest(directory));
+    write_file(directory.file("figure.toml"), "style = \"paper\"\n" + text);
+    const Manifest manifest = load_manifest(directory.file("figure.toml"));
+    EXPECT_EQ(manifest.style, FigureStyle::paper);
+    const BatchResult result = run_batch(manifest, {}, {});
+    const nlohmann::json record = nlohmann::json::parse(read_bytes(result.record_path));
+    const std::vector<std::string> caption = record["caption"];
+    EXPECT_NE(std::find(caption.begin(), caption.end(), "rings: theta_o 30, 60 deg; cyan: mirror direction"), caption.end());
+    // The layout behind the PNG: one bar per row (the panels are the record's images).
+    std::vector<LobeImage> images;
+    for (const ManifestPanel& panel : manifest.panels) images.push_back(load_lobe_exr(panel_path(manifest, panel)));
+    Figure figure;
+    figure.style = FigureStyle::paper;
+    figure.cells.assign(manifest.row_labels.size(), std::vector<const LobeImage*>(manifest.column_labels.size()));
+    for (std::size_t k = 0; k < manifest.panels.size(); ++k)
+        figure.cells[manifest.panels[k].row][manifest.panels[k].column] = &images[k];
+    const FigureLayout layout = write_figure(figure, directory.file("again.png"), {});
+    EXPECT_EQ(layout.colour_bars.size(), manifest.row_labels.size());
+    EXPECT_EQ(layout.caption, caption);
 }
 
 TEST(Batch, InsetsAddAHeightfieldColumnWithTheFootprintDrawn) {

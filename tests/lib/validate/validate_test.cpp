@@ -62,6 +62,44 @@ TEST(Validate, AFlatMirrorAgreesToTheKernelBlurAndEveryRowIsReported) {
     }
 }
 
+// The summary figure plots what the summary says: per model, at each K, the mean over the
+// wavelengths of the footprints' mean relative L2, in %, computed here from the rows themselves.
+TEST(Validate, TheSummaryFiguresSeriesAreTheSummaryTablesMeans) {
+    ValidationPlan plan;
+    plan.base.wavelengths_um = {0.45, 0.6};
+    std::vector<ValidationRow> rows;
+    for (DiffractionModel model : {DiffractionModel::rohs, DiffractionModel::kirchhoff})
+        for (int k : {1, 2, 4})
+            for (int footprint = 0; footprint < 3; ++footprint)
+                for (double lambda : plan.base.wavelengths_um) {
+                    ValidationRow row;
+                    row.centre_um = {10.0 * footprint, 0.0};
+                    row.model = model;
+                    row.kernels_per_texel = k;
+                    row.comparison.wavelength_um = lambda;
+                    // Distinct errors per model, K, footprint and wavelength.
+                    row.comparison.relative_l2 = (model == DiffractionModel::rohs ? 0.2 : 0.1) / k + 0.01 * footprint + lambda / 10;
+                    rows.push_back(row);
+                }
+    const Plot plot = error_against_k_plot(plan, summarize_validation(rows));
+    ASSERT_EQ(plot.series.size(), 2u);
+    EXPECT_EQ(plot.series[0].label, "rohs");
+    EXPECT_EQ(plot.series[1].label, "kirchhoff");
+    for (const PlotSeries& series : plot.series) {
+        ASSERT_EQ(series.x, (std::vector<double>{1, 2, 4}));
+        for (std::size_t i = 0; i < series.x.size(); ++i) {
+            double sum = 0.0;
+            int count = 0;
+            for (const ValidationRow& row : rows)
+                if (to_string(row.model) == series.label && row.kernels_per_texel == series.x[i])
+                    sum += row.comparison.relative_l2, ++count;
+            EXPECT_EQ(count, 6);  // 3 footprints × 2 wavelengths
+            EXPECT_NEAR(series.y[i], 100.0 * sum / count, 1e-12) << series.label << " K " << series.x[i];
+        }
+    }
+    EXPECT_NE(plot.caption.at(0).find("the mean over 3 footprints and 2 wavelengths"), std::string::npos);
+}
+
 TEST(Validate, GaborMeetsItsDocumentedBoundOnTheIsotropicBuiltin) {
     ValidationPlan plan;
     set_heightfield(plan.base, generate_builtin("isotropic"));

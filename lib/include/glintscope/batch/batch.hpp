@@ -30,6 +30,7 @@ struct Manifest {
     SharedExposure exposure = SharedExposure::per_row;
     bool log_scale = false;  // scale = "log": panels on a log scale (NDFs with sharp folds)
     bool insets = false;     // insets = true: each row's heightfield with its footprint on the left
+    FigureStyle style = FigureStyle::standard;  // style = "paper": larger type, a colour bar per row
     std::vector<std::string> row_labels;
     std::vector<std::string> column_labels;
     std::vector<ManifestPanel> panels;  // row-major

@@ -34,6 +34,27 @@ auto with_threads(int threads, const Body& body) {
     return body();
 }
 
+// Progress of a long call made while the scope lives on the constructing thread, pass by pass:
+// every parallel_for that thread starts (not those nested in a loop's body) is a pass, numbered
+// from 1, and report(pass, done, total) is called as its chunks finish: done of its total
+// chunks, rising, whenever a thousandth more is done and at the last chunk. Calls are serialised
+// (they come from any of the loop's threads). The passes are reported as they come: the scope
+// cannot know how many more a method will start.
+class ProgressScope {
+public:
+    using Report = std::function<void(std::size_t pass, std::size_t done, std::size_t total)>;
+    explicit ProgressScope(Report report);
+    ~ProgressScope();
+    ProgressScope(const ProgressScope&) = delete;
+    ProgressScope& operator=(const ProgressScope&) = delete;
+
+    struct State;  // the counts, shared with the loops
+
+private:
+    State* state_;
+    State* previous_;
+};
+
 // Calls body(begin, end) for consecutive chunks [begin, end) of [0, count) of at most
 // `chunk` items each, spread over the threads. Exceptions thrown by a body are rethrown.
 void parallel_for(std::size_t count, std::size_t chunk,

@@ -41,7 +41,9 @@ struct LobeRun {
     std::vector<std::string> warnings;  // physics warnings about the query and the image
 };
 
-// Called after each footprint of an averaged request with (done, total).
+// Called after each footprint of an averaged request with (done, total); for a single footprint
+// per pass of the method's heavy loops (core/parallel.hpp: ProgressScope) with the chunks done of
+// that pass's total: a count that falls back starts the next pass.
 using RunProgress = std::function<void(std::size_t done, std::size_t total)>;
 
 // Plans and runs: one footprint, or the mean over the plan's centres (pixel by pixel, in order:

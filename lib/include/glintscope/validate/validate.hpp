@@ -9,6 +9,7 @@
 
 #include "glintscope/lobe/compare.hpp"
 #include "glintscope/lobe/query.hpp"
+#include "glintscope/output/plot.hpp"
 
 namespace glintscope {
 
@@ -81,6 +82,11 @@ struct ValidationSummary {
     double mean_energy_ratio = 0.0;
 };
 std::vector<ValidationSummary> summarize_validation(const std::vector<ValidationRow>& rows);
+
+// validate's summary figure: the mean relative L2 (in %) against K, one series per model (and
+// order, when several ran), each point the mean over the wavelengths of the summary's mean over
+// the footprints at that K; the caption says so.
+Plot error_against_k_plot(const ValidationPlan& plan, const std::vector<ValidationSummary>& summary);
 
 // What every column means, one line each ("name: meaning"), for --help, the report and docs.
 const std::vector<std::string>& validation_column_definitions();
