@@ -374,6 +374,8 @@ void check_finite(const GaborPointQuery& query) {
 GaborSurface::GaborSurface(std::shared_ptr<const BicubicInterpolant> surface, GaborSettings settings)
     : surface_(std::move(surface)), settings_(settings) {
     if (!surface_) throw Error("gabor: GaborSurface needs a heightfield interpolant");
+    // The pipeline resamples rectangular texels for gabor (MethodInfo::needs_square_texels).
+    if (!surface_->square_texels()) throw Error("gabor: GaborSurface needs square texels (make_texels_square)");
     validate(settings_);
     kernels_x_ = surface_->cols() * settings_.kernels_per_texel;
     kernels_y_ = surface_->rows() * settings_.kernels_per_texel;
