@@ -289,6 +289,13 @@ TEST(RemoveForm, ExactPlaneLeavesZero) {
     EXPECT_NEAR(report.rms_removed_um, std::sqrt(0.01 * 0.01 * var_x + 0.02 * 0.02 * var_y), 1e-3);
     EXPECT_LE(report.rms_residual_um, 1e-6);
     EXPECT_EQ(field.provenance["prepare.1"].rfind("remove_form: plane", 0), 0u);
+
+    // Rectangular texels (rows 1.9 µm apart): the slopes come out in µm per µm along each axis.
+    Heightfield rectangular = sampled_field(37, 53, 0.7, 1.9, plane);
+    const FormReport rectangular_report = remove_form(rectangular, 1);
+    EXPECT_NEAR(rectangular_report.slope_x, 0.01, 1e-9);
+    EXPECT_NEAR(rectangular_report.slope_y, -0.02, 1e-9);
+    EXPECT_LE(rectangular_report.rms_residual_um, 1e-6);
 }
 
 TEST(RemoveForm, PolynomialOfOrderNIsRemovedByOrderNButNotByOrderNMinusOne) {
