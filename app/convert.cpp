@@ -60,7 +60,7 @@ int parse_form_option(const std::string& text) {
 std::string summary(const std::string& verb, const std::string& path, const Heightfield& field) {
     char line[512];
     std::snprintf(line, sizeof line, "%s %s: %dx%d samples of %s (%s x %s), %zu missing", verb.c_str(), path.c_str(),
-                  field.cols, field.rows, format_length(field.texel_um).c_str(),
+                  field.cols, field.rows, texel_text(field).c_str(),
                   format_length(field.width_um()).c_str(), format_length(field.height_um()).c_str(),
                   count_missing(field));
     return line;
@@ -91,8 +91,11 @@ void run_convert(const ConvertSettings& settings, bool resample_given) {
     lines.push_back(summary("wrote", settings.output, field));
     // NPY has no place for it (and a sidecar would be lost as soon as the file is copied alone).
     if (settings.output.ends_with(".npy"))
-        lines.push_back("  note: NPY stores no texel size or units: read it back with --texel " +
-                        shortest_text(field.texel_um) + "um (heights are in um)");
+        lines.push_back(field.square_texels()
+                            ? "  note: NPY stores no texel size or units: read it back with --texel " +
+                                  shortest_text(field.texel_um) + "um (heights are in um)"
+                            : "  note: NPY stores no texel size or units, and --texel gives square texels only: these "
+                              "are " + texel_text(field) + "; write .x3p or .exr to keep them");
     for (const std::string& line : lines) std::printf("%s\n", line.c_str());
 }
 

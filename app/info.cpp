@@ -128,7 +128,8 @@ void print_json(const std::string& input, const Heightfield& field, const Report
     const nlohmann::ordered_json json = {{"file", input},
                                          {"cols", field.cols},
                                          {"rows", field.rows},
-                                         {"texel_um", field.texel_um},
+                                         {"texel_um", field.dx_um()},
+                                         {"texel_y_um", field.dy_um()},
                                          {"width_um", field.width_um()},
                                          {"height_um", field.height_um()},
                                          {"height_unit", "um"},
@@ -180,7 +181,7 @@ void print_text(const std::string& input, const Heightfield& field, const Report
     const bool builtin = input.starts_with("builtin:");
     print_line(builtin ? "surface:" : "file:", builtin ? input + ", generated: " + kind_description(input.substr(8)) : input);
     print_line("size:", std::to_string(field.cols) + " x " + std::to_string(field.rows) + " samples (x by y)");
-    print_line("texel:", format_length(field.texel_um));
+    print_line("texel:", texel_text(field));
     print_line("extent:", format_length(field.width_um()) + " x " + format_length(field.height_um()));
     print_line("units:", builtin                ? "exact: generated in um"
                          : field.units_assumed ? "ASSUMED: the file does not give them; texel 1 um and heights in um "

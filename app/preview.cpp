@@ -93,7 +93,9 @@ void run_preview(const PreviewSettings& settings) {
         legend.max_value = std::max(legend.max_value, static_cast<double>(height));
     }
     // Heightfield rows already run from the largest y down, as the picture does.
-    write_colormapped_png(settings.output, ScalarImage{field.rows, field.cols, field.heights_um}, legend);
+    write_colormapped_png(settings.output,
+                          at_true_aspect({field.rows, field.cols, field.heights_um}, field.width_um(), field.height_um()),
+                          legend);
 }
 
 }  // namespace

@@ -159,7 +159,8 @@ void bind_heightfield(py::module_& module) {
             py::arg("dtype") = py::none())
         .def_readonly("rows", &Heightfield::rows)
         .def_readonly("cols", &Heightfield::cols)
-        .def_readonly("texel_um", &Heightfield::texel_um)
+        .def_readonly("texel_um", &Heightfield::texel_um, "dx, the column spacing (um).")
+        .def_property_readonly("texel_y_um", &Heightfield::dy_um, "dy, the row spacing (um); texel_um when square.")
         .def_readonly("periodic", &Heightfield::periodic, "Whether the field tiles the plane (footprints may cross its border).")
         .def_readonly("units_assumed", &Heightfield::units_assumed)
         .def_property_readonly("shape", [](const Heightfield& f) { return py::make_tuple(f.rows, f.cols); })
@@ -216,7 +217,7 @@ void bind_heightfield(py::module_& module) {
              "ISO 25178-2 areal parameters (Sq, Ssk, Sku, Sp, Sv, Sz, Sa, Sdq, Sdr, Sal, Str, Std) on the field as given.")
         .def("__repr__", [](const Heightfield& f) {
             return "<glintscope.Heightfield " + std::to_string(f.rows) + "x" + std::to_string(f.cols) + " texel " +
-                   format_length(f.texel_um) + (f.periodic ? ", periodic" : "") + ">";
+                   texel_text(f) + (f.periodic ? ", periodic" : "") + ">";
         });
 
     module.def("load", &load, py::arg("path"), py::kw_only(), py::arg("channel") = py::none(),

@@ -92,6 +92,8 @@ class Heightfield:
     rows: int
     cols: int
     texel_um: float
+    @property
+    def texel_y_um(self) -> float: ...
     periodic: bool
     units_assumed: bool
     @property

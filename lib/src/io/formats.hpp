@@ -45,10 +45,11 @@ inline constexpr std::size_t kMaxSamples = std::size_t{1} << 31;
 // Checks a grid size read from a file before anything is allocated for it.
 void check_grid_size(long long cols, long long rows, const std::string& path);
 
-// A field read with rows dy_um apart (columns field.texel_um apart) made square
-// (surface/square_texels.hpp) with the tiling the options give, the change recorded as
-// provenance "square_texels"; a refusal names `path`.
-void make_square_recorded(Heightfield& field, double dy_um, const LoadOptions& options, const std::string& path);
+// Gives a field read from `path` its spacings: dx_um (columns, as resolve_units chose it) and dy
+// (rows) as the file states them, stored_dx × stored_dy (in its own length unit), scaled with dx
+// when dx is not the file's own. Rectangular texels are kept, not resampled; spacings more than
+// kMaxTexelAspect apart are refused naming `path`.
+void set_read_spacing(Heightfield& field, double dx_um, double stored_dx, double stored_dy, const std::string& path);
 
 // Readers return heights in µm with the texel, provenance and units_assumed filled in; the
 // caller validates the result.

@@ -124,7 +124,7 @@ Heightfield read_gwyddion(const std::string& path, const LoadOptions& options) {
     g_free(module);
     field.provenance["gwyddion:channel"] = channel_title(data.container, id);
     field.provenance["gwyddion:units"] = "lateral '" + xy_unit + "', heights '" + z_unit + "'";
-    if (rectangular) make_square_recorded(field, conversion.texel_um * (dy_um / dx_um), options, path);
+    if (rectangular) set_read_spacing(field, conversion.texel_um, dx_um, dy_um, path);
     return field;
 }
 

@@ -1,6 +1,7 @@
 // Format dispatch, unit resolution and the checks every reader shares.
 #include "glintscope/io/heightfield_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -10,6 +11,8 @@
 #include "glintscope/surface/square_texels.hpp"
 #include "glintscope/core/atomic_output.hpp"
 #include "glintscope/core/error.hpp"
+#include "glintscope/core/text_format.hpp"
+#include "glintscope/core/units.hpp"
 
 namespace glintscope {
 namespace {
@@ -64,10 +67,14 @@ Error write_error(const std::string& path, const std::string& problem) {
     return Error("cannot write '" + path + "': " + problem);
 }
 
-void make_square_recorded(Heightfield& field, double dy_um, const LoadOptions& options, const std::string& path) {
-    field.periodic = options.periodic;
-    const SquareTexelReport report = make_texels_square(field, dy_um, kMaxSamples, "cannot read '" + path + "'");
-    field.provenance["square_texels"] = describe(report, field);
+void set_read_spacing(Heightfield& field, double dx_um, double stored_dx, double stored_dy, const std::string& path) {
+    // The file's own dy exactly when dx is the file's; scaled with dx when the units were assumed.
+    const double dy_um = dx_um == stored_dx ? stored_dy : dx_um * (stored_dy / stored_dx);
+    const double aspect = std::max(dx_um, dy_um) / std::min(dx_um, dy_um);
+    if (!(aspect <= kMaxTexelAspect))
+        throw read_error(path, "the sample spacings " + format_length(dx_um) + " (x) and " + format_length(dy_um) +
+                                   " (y) differ by more than " + shortest_text(kMaxTexelAspect) + " times");
+    set_spacing(field, dx_um, dy_um);
 }
 
 void check_grid_size(long long cols, long long rows, const std::string& path) {

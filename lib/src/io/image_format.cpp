@@ -12,11 +12,14 @@
 // EXR files written here hold one full-float channel "Z" in µm and header attributes
 // glintscope:texel_um and glintscope:height_unit (shortest round-trip decimal text) and
 // glintscope:provenance:<key> for each provenance entry; reading them back restores all of it.
+// A field with rectangular texels also carries glintscope:texel_y_um (dy; texel_um is dx) and
+// the standard PixelAspectRatio dx/dy, so that viewers draw its pixels at their true shape.
 // Images without these attributes have no units (units_assumed unless the options give them).
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <cstdint>
 #include <cstdio>
 #include <string_view>
@@ -33,6 +36,7 @@ namespace glintscope {
 namespace {
 
 constexpr std::string_view kTexelAttribute = "glintscope:texel_um";
+constexpr std::string_view kTexelYAttribute = "glintscope:texel_y_um";
 constexpr std::string_view kHeightUnitAttribute = "glintscope:height_unit";
 constexpr std::string_view kProvenancePrefix = "glintscope:provenance:";
 
@@ -70,16 +74,21 @@ int choose_channel(const OIIO::ImageSpec& spec, const std::string& requested, co
     throw read_error(path, "no channel '" + requested + "' (available: " + channel_list(spec) + ")");
 }
 
+// A length attribute (shortest round-trip text), absent when the header lacks it.
+std::optional<double> header_length(const OIIO::ImageSpec& spec, std::string_view name, const std::string& path) {
+    const OIIO::ParamValue* attribute = spec.find_attribute(name, OIIO::TypeDesc::STRING);
+    if (!attribute) return std::nullopt;
+    const std::string text = attribute->get_string();
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size())
+        throw read_error(path, "invalid " + std::string(name) + " '" + text + "' in the header");
+    return value;
+}
+
 StoredUnits header_units(const OIIO::ImageSpec& spec, const std::string& path) {
     StoredUnits units;
-    if (const OIIO::ParamValue* texel = spec.find_attribute(kTexelAttribute, OIIO::TypeDesc::STRING)) {
-        const std::string text = texel->get_string();
-        double value = 0.0;
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-        if (ec != std::errc() || end != text.data() + text.size())
-            throw read_error(path, "invalid " + std::string(kTexelAttribute) + " '" + text + "' in the header");
-        units.texel_um = value;
-    }
+    units.texel_um = header_length(spec, kTexelAttribute, path);
     if (const OIIO::ParamValue* unit = spec.find_attribute(kHeightUnitAttribute, OIIO::TypeDesc::STRING)) {
         try {
             units.height_unit = parse_length_unit(unit->get_string());
@@ -244,6 +253,11 @@ Heightfield read_image(const std::string& path, const LoadOptions& options) {
     const HeightConversion conversion = resolve_units(header_units(spec, path), options, path);
 
     Heightfield field = make_heightfield(spec.height, spec.width, conversion.texel_um);
+    // dy scales with dx (a --texel given by the user declares the texels square).
+    const std::optional<double> stored_dx = header_length(spec, kTexelAttribute, path);
+    if (const std::optional<double> stored_dy = header_length(spec, kTexelYAttribute, path);
+        stored_dy && stored_dx && !options.texel_um)
+        set_read_spacing(field, conversion.texel_um, *stored_dx, *stored_dy, path);
     field.units_assumed = conversion.units_assumed;
     field.provenance = header_provenance(spec);
     read_pixels(*input, channel, conversion, field, path);
@@ -256,7 +270,11 @@ void write_exr(const std::string& file, const std::string& path, const Heightfie
     // Uncompressed: zip saves ~3% on rough float heights but makes an 8192² write take ~8 s
     // and a read twice as long (measured with OpenImageIO 2.4 on 2 cores).
     spec.attribute("compression", "none");
-    spec.attribute(kTexelAttribute, shortest_text(field.texel_um));
+    spec.attribute(kTexelAttribute, shortest_text(field.dx_um()));
+    if (!field.square_texels()) {
+        spec.attribute(kTexelYAttribute, shortest_text(field.dy_um()));
+        spec.attribute("PixelAspectRatio", static_cast<float>(field.dx_um() / field.dy_um()));
+    }
     spec.attribute(kHeightUnitAttribute, to_string(LengthUnit::um));
     for (const auto& [key, value] : field.provenance) spec.attribute(std::string(kProvenancePrefix) + key, value);
 

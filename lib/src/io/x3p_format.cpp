@@ -728,9 +728,8 @@ std::string main_xml(const Heightfield& field, const std::string& data_md5, cons
     add_text(record1, "Revision", "ISO5436 - 2000");
     add_text(record1, "FeatureType", "SUR");
     pugi::xml_node axes = record1.append_child("Axes");
-    const std::string spacing = metres_text(field.texel_um);
-    add_axis(axes, "CX", "I", spacing);
-    add_axis(axes, "CY", "I", spacing);
+    add_axis(axes, "CX", "I", metres_text(field.dx_um()));
+    add_axis(axes, "CY", "I", metres_text(field.dy_um()));
     add_axis(axes, "CZ", "A", "1");
 
     const std::string now = utc_now();
@@ -827,7 +826,7 @@ Heightfield read_x3p(const std::string& path, const LoadOptions& options) {
     stored.texel_um = dx_um;
     stored.height_unit = LengthUnit::m;
     // A --texel given by the user declares the texels square; otherwise spacings that differ
-    // beyond what the file can state are resampled to square texels after the points are read.
+    // beyond what the file can state are kept as they are (rectangular texels).
     const bool rectangular = !options.texel_um && std::fabs(*dx_um - *dy_um) > square_tolerance * *dx_um;
     const HeightConversion conversion = resolve_units(stored, options, path);
 
@@ -849,7 +848,7 @@ Heightfield read_x3p(const std::string& path, const LoadOptions& options) {
         const auto i = static_cast<int>(k % cols);
         field.at(rows - 1 - j, i) = std::isnan(metres) ? std::numeric_limits<float>::quiet_NaN() : conversion.to_um(metres);
     });
-    if (rectangular) make_square_recorded(field, conversion.texel_um * (*dy_um / *dx_um), options, path);
+    if (rectangular) set_read_spacing(field, conversion.texel_um, *dx_um, *dy_um, path);
     return field;
 }
 

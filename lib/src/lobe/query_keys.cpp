@@ -372,6 +372,7 @@ Provenance describe_query(const LobeQuery& query) {
         for (const auto& [key, value] : query.field->provenance) text["heightfield." + key] = value;
         text["heightfield.size"] = std::to_string(query.field->cols) + "x" + std::to_string(query.field->rows);
         text["heightfield.texel_um"] = shortest_text(query.field->texel_um);
+        if (!query.field->square_texels()) text["heightfield.texel_y_um"] = shortest_text(query.field->dy_um());
     }
     if (!query.source.content_md5.empty()) text["heightfield.md5"] = query.source.content_md5;
     for (const auto& [key, value] : query_text(query)) text["query." + key] = value;

@@ -17,14 +17,14 @@ constexpr int kRowsPerChunk = 16;
 // subdivision of every cell, as normal_density's accumulate_rows decides it.
 void image_samples(const BicubicInterpolant& surface, const NormalDensitySettings& settings, NormalBoundsTree& tree) {
     const TexelGrid& grid = tree.grid;
-    const double t = grid.texel_um, half_resolution = 0.5 * tree.resolution;
+    const double tx = grid.dx_um, ty = grid.dy_um, half_resolution = 0.5 * tree.resolution;
     const std::size_t cells = static_cast<std::size_t>(grid.cols) * grid.rows;
     tree.samples.resize(cells);
     tree.subdivision.assign(cells, static_cast<std::uint8_t>(settings.refinement));
     const bool adaptive = settings.tolerance_pixels > 0.0;
     parallel_for(static_cast<std::size_t>(grid.rows), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
         std::vector<SurfacePoint> points(static_cast<std::size_t>(grid.cols) * (end - begin));
-        surface.evaluate_grid(0.5 * t, (static_cast<double>(begin) + 0.5) * t, t, t, grid.cols, static_cast<int>(end - begin),
+        surface.evaluate_grid(0.5 * tx, (static_cast<double>(begin) + 0.5) * ty, tx, ty, grid.cols, static_cast<int>(end - begin),
                               points.data());
         for (std::size_t k = 0; k < points.size(); ++k)
             tree.samples[begin * grid.cols + k] = normal_pixel(points[k], half_resolution);
@@ -32,7 +32,7 @@ void image_samples(const BicubicInterpolant& surface, const NormalDensitySetting
     if (!adaptive) return;
     parallel_for(static_cast<std::size_t>(grid.rows), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
         std::vector<SurfacePoint> centres(static_cast<std::size_t>(grid.cols) * (end - begin));
-        surface.evaluate_grid(t, (static_cast<double>(begin) + 1.0) * t, t, t, grid.cols, static_cast<int>(end - begin),
+        surface.evaluate_grid(tx, (static_cast<double>(begin) + 1.0) * ty, tx, ty, grid.cols, static_cast<int>(end - begin),
                               centres.data());
         for (std::size_t j = begin; j < end; ++j) {
             const std::size_t above = (j + 1) % grid.rows;
@@ -48,13 +48,13 @@ void image_samples(const BicubicInterpolant& surface, const NormalDensitySetting
 }
 
 // The normal images of the (n + 1)² sub-corners of texel cell (i, j), row by row from its
-// sample (i, j) in steps of dx/n: the image's evaluation (normal_density.cpp, accumulate_rows).
+// sample (i, j) in steps of dx/n, dy/n: the image's evaluation (normal_density.cpp, accumulate_rows).
 void image_sub_corners(const NormalBoundsTree& tree, int i, int j, int n, std::vector<SurfacePoint>& points,
                        std::vector<Pixel>& pixels) {
-    const double t = tree.grid.texel_um;
+    const double tx = tree.grid.dx_um, ty = tree.grid.dy_um;
     points.resize(static_cast<std::size_t>(n + 1) * (n + 1));
     pixels.resize(points.size());
-    tree.surface->evaluate_grid((i + 0.5) * t, (j + 0.5) * t, t / n, t / n, n + 1, n + 1, points.data());
+    tree.surface->evaluate_grid((i + 0.5) * tx, (j + 0.5) * ty, tx / n, ty / n, n + 1, n + 1, points.data());
     for (std::size_t k = 0; k < points.size(); ++k) pixels[k] = normal_pixel(points[k], 0.5 * tree.resolution);
 }
 
@@ -202,11 +202,11 @@ struct Query {
         const std::size_t cell = static_cast<std::size_t>(j) * grid.cols + i;
         const int n = tree.subdivision[cell];
         const double x = cell_x(unwrapped_i), y = cell_y(unwrapped_j);
-        const double h = lattice.step_x / n;
-        const double half_area = 0.5 * h * h;
+        const double h = lattice.step_x / n, k = lattice.step_y / n;
+        const double half_area = 0.5 * h * k;
         const auto pair = [&](Pixel p00, Pixel p10, Pixel p01, Pixel p11, double xa, double yb) {
-            const double lower = half_area * weight(xa + h * (2.0 / 3.0), yb + h / 3.0);
-            const double upper = half_area * weight(xa + h / 3.0, yb + h * (2.0 / 3.0));
+            const double lower = half_area * weight(xa + h * (2.0 / 3.0), yb + k / 3.0);
+            const double upper = half_area * weight(xa + h / 3.0, yb + k * (2.0 / 3.0));
             double sum = 0.0;
             if (lower > 0.0) sum += triangle_density(p00, p10, p11, lower, normal, blur);
             if (upper > 0.0) sum += triangle_density(p00, p11, p01, upper, normal, blur);
@@ -228,9 +228,9 @@ struct Query {
         double sum = 0.0;
         for (int b = 0; b < n; ++b)
             for (int a = 0; a < n; ++a) {
-                const std::size_t k = b * stride + a;
-                if (prune && !quad_holds(p[k], p[k + 1], p[k + stride], p[k + stride + 1])) continue;
-                sum += pair(p[k], p[k + 1], p[k + stride], p[k + stride + 1], x + a * h, y + b * h);
+                const std::size_t q = b * stride + a;
+                if (prune && !quad_holds(p[q], p[q + 1], p[q + stride], p[q + stride + 1])) continue;
+                sum += pair(p[q], p[q + 1], p[q + stride], p[q + stride + 1], x + a * h, y + b * k);
             }
         return sum;
     }
@@ -333,8 +333,8 @@ double point_normal_density(const NormalBoundsTree& tree, const Footprint& footp
     const Query query{tree,
                       lattice,
                       weight_for(grid, footprint),
-                      std::llround((lattice.x0 - 0.5 * grid.texel_um) / grid.texel_um),
-                      std::llround((lattice.y0 - 0.5 * grid.texel_um) / grid.texel_um),
+                      std::llround((lattice.x0 - 0.5 * grid.dx_um) / grid.dx_um),
+                      std::llround((lattice.y0 - 0.5 * grid.dy_um) / grid.dy_um),
                       {(normal.x + 1.0) * half_resolution, (1.0 - normal.y) * half_resolution},
                       blur,
                       blur.radius,

@@ -13,15 +13,16 @@
 
 namespace glintscope {
 
-// The sample grid of a field: cols × rows samples at ((c + ½)·texel, (j + ½)·texel).
+// The sample grid of a field: cols × rows samples at ((c + ½)·dx, (j + ½)·dy).
 struct TexelGrid {
     int cols = 0;
     int rows = 0;
-    double texel_um = 0.0;
+    double dx_um = 0.0;
+    double dy_um = 0.0;
 };
 
 inline TexelGrid texel_grid(const BicubicInterpolant& surface) {
-    return {surface.cols(), surface.rows(), surface.texel_um()};
+    return {surface.cols(), surface.rows(), surface.texel_um(), surface.texel_y_um()};
 }
 
 // Cell lattice over the integration domain: corners (x0 + i·step_x, y0 + j·step_y), 0 ≤ i ≤ nx,
@@ -62,25 +63,27 @@ inline void aligned_axis(double from, double to, double texel, double step, doub
 // The base lattice: one cell per texel, aligned with the samples (a box: with its edges, so
 // the box's weight is integrated exactly); cells are subdivided further where needed.
 inline Lattice lattice_for(const TexelGrid& surface, const Footprint& footprint) {
-    const double texel = surface.texel_um;
+    const double dx = surface.dx_um, dy = surface.dy_um;
     Lattice lattice;
-    lattice.step_x = lattice.step_y = texel;
+    lattice.step_x = dx;
+    lattice.step_y = dy;
     if (footprint.shape == FootprintShape::whole) {
-        lattice.x0 = lattice.y0 = 0.5 * texel;
+        lattice.x0 = 0.5 * dx;
+        lattice.y0 = 0.5 * dy;
         lattice.nx = surface.cols;
         lattice.ny = surface.rows;
     } else if (footprint.shape == FootprintShape::box) {
         const double width = box_width_um(footprint), height = box_height_um(footprint);
-        lattice.nx = static_cast<long long>(std::ceil(width / texel));
-        lattice.ny = static_cast<long long>(std::ceil(height / texel));
+        lattice.nx = static_cast<long long>(std::ceil(width / dx));
+        lattice.ny = static_cast<long long>(std::ceil(height / dy));
         lattice.step_x = width / static_cast<double>(lattice.nx);
         lattice.step_y = height / static_cast<double>(lattice.ny);
         lattice.x0 = footprint.centre_um.x - 0.5 * width;
         lattice.y0 = footprint.centre_um.y - 0.5 * height;
     } else {
         const double reach = kTruncationSigmas * footprint_weight_sigma_um(footprint);
-        aligned_axis(footprint.centre_um.x - reach, footprint.centre_um.x + reach, texel, texel, lattice.x0, lattice.nx);
-        aligned_axis(footprint.centre_um.y - reach, footprint.centre_um.y + reach, texel, texel, lattice.y0, lattice.ny);
+        aligned_axis(footprint.centre_um.x - reach, footprint.centre_um.x + reach, dx, dx, lattice.x0, lattice.nx);
+        aligned_axis(footprint.centre_um.y - reach, footprint.centre_um.y + reach, dy, dy, lattice.y0, lattice.ny);
     }
     return lattice;
 }
@@ -90,7 +93,7 @@ inline Weight weight_for(const TexelGrid& surface, const Footprint& footprint) {
     weight.shape = footprint.shape;
     weight.centre = footprint.centre_um;
     if (footprint.shape == FootprintShape::whole) {
-        weight.scale = 1.0 / (surface.cols * surface.texel_um * surface.rows * surface.texel_um);
+        weight.scale = 1.0 / (surface.cols * surface.dx_um * surface.rows * surface.dy_um);
     } else if (footprint.shape == FootprintShape::box) {
         weight.scale = 1.0 / (box_width_um(footprint) * box_height_um(footprint));
     } else {

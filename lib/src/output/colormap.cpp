@@ -99,6 +99,24 @@ ScalarImage resize_for_display(const ScalarImage& image, int min_side, int max_s
     return small;
 }
 
+ScalarImage at_true_aspect(const ScalarImage& image, double width_um, double height_um) {
+    const double pixel_aspect = (width_um / image.cols) / (height_um / image.rows);  // dx / dy of a pixel
+    const bool wider = pixel_aspect > 1.0;  // columns too narrow on screen: repeat them
+    const int cols = wider ? static_cast<int>(std::lround(image.cols * pixel_aspect)) : image.cols;
+    const int rows = wider ? image.rows : static_cast<int>(std::lround(image.rows / pixel_aspect));
+    if (cols == image.cols && rows == image.rows) return image;
+    ScalarImage stretched{rows, cols, {}};
+    stretched.values.resize(static_cast<std::size_t>(rows) * cols);
+    for (int r = 0; r < rows; ++r) {
+        const int source_row = static_cast<int>(static_cast<long long>(r) * image.rows / rows);
+        for (int c = 0; c < cols; ++c)
+            stretched.values[static_cast<std::size_t>(r) * cols + c] =
+                image.values[static_cast<std::size_t>(source_row) * image.cols +
+                             static_cast<std::size_t>(static_cast<long long>(c) * image.cols / cols)];
+    }
+    return stretched;
+}
+
 namespace {
 
 // The first font OpenImageIO can load; fonts-dejavu-core provides DejaVuSans.

@@ -386,6 +386,18 @@ void draw_scale_bar(OIIO::ImageBuf& picture, int x0, int y0, int w, int h, doubl
     text(picture, right - pixels / 2, bottom - 24, label, kWhite, OIIO::ImageBufAlgo::TextAlignX::Center, 13);
 }
 
+// The same along y, in the lower left corner.
+void draw_vertical_scale_bar(OIIO::ImageBuf& picture, int x0, int y0, int h, double height_um) {
+    const double length = nice_step(height_um, 4);
+    const int pixels = int(std::lround(length / height_um * h));
+    const int left = x0 + 12, bottom = y0 + h - 12;
+    OIIO::ImageBufAlgo::render_box(picture, left - 1, bottom - pixels - 1, left + 5, bottom + 1, kBlack, true);
+    OIIO::ImageBufAlgo::render_box(picture, left, bottom - pixels, left + 4, bottom, kWhite, true);
+    const std::string label = number(length, 4) + " um";
+    text(picture, left + 9, bottom - pixels / 2 - 7, label, kBlack, OIIO::ImageBufAlgo::TextAlignX::Left, 13);
+    text(picture, left + 8, bottom - pixels / 2 - 8, label, kWhite, OIIO::ImageBufAlgo::TextAlignX::Left, 13);
+}
+
 // The footprint in map view, and its copies across the periodic edges.
 void draw_footprint(OIIO::ImageBuf& picture, int x0, int y0, int w, int h, const Heightfield& field,
                     const Footprint& footprint) {
@@ -421,7 +433,8 @@ void draw_footprint(OIIO::ImageBuf& picture, int x0, int y0, int w, int h, const
 // The annotated height map: colour-mapped heights (longer side between min_side and max_side
 // pixels), axes, scale bar, colour bar, the footprint if given, and a caption line.
 OIIO::ImageBuf height_panel(const Heightfield& field, ColorMap map, const Footprint* footprint, int min_side, int max_side) {
-    const ScalarImage shown = resize_for_display({field.rows, field.cols, field.heights_um}, min_side, max_side);
+    const ScalarImage shown = resize_for_display(
+        at_true_aspect({field.rows, field.cols, field.heights_um}, field.width_um(), field.height_um()), min_side, max_side);
     double low = INFINITY, high = -INFINITY;
     for (float h : field.heights_um)
         if (!std::isnan(h)) low = std::min(low, double(h)), high = std::max(high, double(h));
@@ -429,7 +442,8 @@ OIIO::ImageBuf height_panel(const Heightfield& field, ColorMap map, const Footpr
     const int w = shown.cols, h = shown.rows;
     const int left = 70, top = 40;
     std::string caption = std::to_string(field.cols) + " x " + std::to_string(field.rows) + " samples, texel " +
-                          number(field.texel_um, 4) + " um";
+                          number(field.dx_um(), 4) +
+                          (field.square_texels() ? "" : " x " + number(field.dy_um(), 4) + " (x by y)") + " um";
     if (footprint)
         caption += footprint->shape == FootprintShape::box
                        ? ", box footprint " + number(box_width_um(*footprint), 4) +
@@ -453,6 +467,8 @@ OIIO::ImageBuf height_panel(const Heightfield& field, ColorMap map, const Footpr
         }
     draw_axes(picture, left, top, w, h, field.width_um(), field.height_um());
     draw_scale_bar(picture, left, top, w, h, field.width_um());
+    // Rectangular texels: a bar along y too, so that each axis carries its own length.
+    if (!field.square_texels()) draw_vertical_scale_bar(picture, left, top, h, field.height_um());
     if (footprint) draw_footprint(picture, left, top, w, h, field, *footprint);
     const int bar_x = left + w + 2 * kMargin;
     for (int y = 0; y < h; ++y) {

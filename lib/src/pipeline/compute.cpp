@@ -11,6 +11,7 @@
 #include "glintscope/lobe/query_keys.hpp"
 #include "glintscope/optics/material.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/surface/square_texels.hpp"
 #include "pipeline/method_table.hpp"
 
 namespace glintscope {
@@ -198,6 +199,19 @@ void check_option_keys(const MethodInfo& method, const LobeQuery& query) {
     }
 }
 
+// A method that reads square texels gets the field resampled along its coarser axis (never a
+// silent change: the report, with its round-trip change, goes into the field's provenance, which
+// the image's metadata carries as heightfield.square_texels, and into the run's notes).
+void square_the_texels(LobePlan& plan) {
+    Heightfield field = *plan.query.field;
+    const SquareTexelReport report =
+        make_texels_square(field, std::size_t{1} << 31, plan.method + " needs square texels, but");
+    const std::string text = describe(report, field);
+    field.provenance["square_texels"] = text + " (method " + plan.method + " needs square texels)";
+    set_heightfield(plan.query, std::move(field));
+    plan.notes.push_back("method " + plan.method + " needs square texels: " + text);
+}
+
 }  // namespace
 
 std::vector<MethodInfo> lobe_methods() {
@@ -226,6 +240,7 @@ LobePlan plan_lobe(const std::string& method, const LobeQuery& query) {
         throw Error("method '" + method + "' cannot integrate pixels exactly (supersample exact; methods that can: " +
                     methods_that([](const MethodInfo& info) { return info.exact_pixels; }) + "): give K or auto");
     LobePlan plan{method, query, {}, {}};
+    if (entry.info.needs_square_texels && !query.field->square_texels()) square_the_texels(plan);
     if (query.supersample == 0) {
         plan.query.supersample = supersample_for(entry.info, query);
         if (plan.query.supersample > 1)

@@ -38,9 +38,10 @@ CropReport crop_samples(Heightfield& field, int first_row, int first_col, int ro
     report.cols = cols;
     report.original_rows = field.rows;
     report.original_cols = field.cols;
-    report.texel_um = field.texel_um;
+    report.texel_um = field.dx_um();
+    report.texel_y_um = field.dy_um();
     // Lower-left corner of the kept cells: sample (R − 1, 0) of the original has its cell at (0, 0).
-    report.origin_um = {first_col * field.texel_um, (field.rows - first_row - rows) * field.texel_um};
+    report.origin_um = {first_col * field.dx_um(), (field.rows - first_row - rows) * field.dy_um()};
 
     std::vector<float> kept(static_cast<std::size_t>(rows) * cols);
     for (int r = 0; r < rows; ++r)
@@ -64,26 +65,28 @@ CropReport crop(Heightfield& field, const CropRegion& region) {
     if (!(region.width_um > 0.0) || !(region.height_um > 0.0))
         throw Error("crop: the region's width and height must be positive, got " + format_length(region.width_um) +
                     " x " + format_length(region.height_um));
-    const double dx = field.texel_um;
+    const double dx = field.dx_um(), dy = field.dy_um();
     // Edges within a millionth of a texel of the field's border count as on it (rounding in
     // the user's arithmetic), anything further out is an error rather than silently clipped.
-    const double slack = 1e-6 * dx;
-    if (region.x0_um < -slack || region.y0_um < -slack || region.x0_um + region.width_um > field.width_um() + slack ||
-        region.y0_um + region.height_um > field.height_um() + slack)
+    const double slack_x = 1e-6 * dx, slack_y = 1e-6 * dy;
+    if (region.x0_um < -slack_x || region.y0_um < -slack_y ||
+        region.x0_um + region.width_um > field.width_um() + slack_x ||
+        region.y0_um + region.height_um > field.height_um() + slack_y)
         throw Error("crop: the region x " + format_length(region.x0_um) + " to " +
                     format_length(region.x0_um + region.width_um) + ", y " + format_length(region.y0_um) + " to " +
                     format_length(region.y0_um + region.height_um) + " lies outside the field (x 0 to " +
                     format_length(field.width_um()) + ", y 0 to " + format_length(field.height_um()) +
                     ", measured from its lower-left corner)");
-    // Edges snap to the nearest texel boundary: column c's cell spans [c·dx, (c + 1)·dx).
-    const auto snap = [dx](double length) { return static_cast<std::int64_t>(std::llround(length / dx)); };
-    const std::int64_t first_col = snap(region.x0_um);
-    const std::int64_t end_col = std::min<std::int64_t>(snap(region.x0_um + region.width_um), field.cols);
-    const std::int64_t first_y = snap(region.y0_um);  // in cells, counted upward from the bottom
-    const std::int64_t end_y = std::min<std::int64_t>(snap(region.y0_um + region.height_um), field.rows);
+    // Edges snap to the nearest texel boundary: column c's cell spans [c·dx, (c + 1)·dx), rows' dy.
+    const auto snap = [](double length, double d) { return static_cast<std::int64_t>(std::llround(length / d)); };
+    const std::int64_t first_col = snap(region.x0_um, dx);
+    const std::int64_t end_col = std::min<std::int64_t>(snap(region.x0_um + region.width_um, dx), field.cols);
+    const std::int64_t first_y = snap(region.y0_um, dy);  // in cells, counted upward from the bottom
+    const std::int64_t end_y = std::min<std::int64_t>(snap(region.y0_um + region.height_um, dy), field.rows);
     if (end_col - first_col < 1 || end_y - first_y < 1)
         throw Error("crop: the region " + format_length(region.width_um) + " x " + format_length(region.height_um) +
-                    " is smaller than one texel (" + format_length(dx) + ") after snapping to the grid");
+                    " is smaller than one texel (" + format_length(dx) +
+                    (dy == dx ? std::string() : " x " + format_length(dy)) + ") after snapping to the grid");
     return crop_samples(field, static_cast<int>(field.rows - end_y), static_cast<int>(first_col),
                         static_cast<int>(end_y - first_y), static_cast<int>(end_col - first_col));
 }
@@ -96,7 +99,7 @@ std::string describe(const CropReport& report) {
                   report.cols, report.rows, report.original_cols, report.original_rows, report.first_row,
                   report.first_row + report.rows - 1, report.first_col, report.first_col + report.cols - 1,
                   report.origin_um.x, report.origin_um.x + report.cols * report.texel_um, report.origin_um.y,
-                  report.origin_um.y + report.rows * report.texel_um);
+                  report.origin_um.y + report.rows * report.texel_y_um);
     return line + std::string(report.ended_periodicity ? "; the field is no longer periodic" : "");
 }
 

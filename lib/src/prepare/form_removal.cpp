@@ -187,7 +187,7 @@ FormReport remove_form(Heightfield& field, int order) {
 
     report.centre_um = field.centre_um();
     report.u_scale_um = cols > 1 ? 0.5 * (cols - 1) * field.texel_um : field.texel_um;
-    report.v_scale_um = rows > 1 ? 0.5 * (rows - 1) * field.texel_um : field.texel_um;
+    report.v_scale_um = rows > 1 ? 0.5 * (rows - 1) * field.dy_um() : field.dy_um();
     for (const FormTerm& term : report.terms) {
         report.slope_x += term.coefficient_um * legendre_slope_at_zero(term.i) * legendre_at_zero(term.j) /
                           report.u_scale_um;

@@ -98,8 +98,8 @@ std::vector<double> mean_surface(const Heightfield& field, double nesting_um) {
         if (normalise) weights[i] = valid ? 1.0 : 0.0;
     }
     std::vector<double>* mask = normalise ? &weights : nullptr;
-    convolve_lines(values, mask, rows, cols, cols, 1, field.periodic, field.texel_um, nesting_um);
-    convolve_lines(values, mask, cols, rows, 1, cols, field.periodic, field.texel_um, nesting_um);
+    convolve_lines(values, mask, rows, cols, cols, 1, field.periodic, field.dx_um(), nesting_um);
+    convolve_lines(values, mask, cols, rows, 1, cols, field.periodic, field.dy_um(), nesting_um);
     if (normalise)
         for (std::size_t i = 0; i < values.size(); ++i) values[i] /= weights[i];
     return values;

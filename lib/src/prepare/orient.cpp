@@ -35,6 +35,7 @@ void quarter_turn(Heightfield& field) {
     field.rows = turned.rows;
     field.cols = turned.cols;
     field.heights_um = std::move(turned.heights_um);
+    set_spacing(field, field.dy_um(), field.dx_um());  // rows become columns
 }
 
 }  // namespace

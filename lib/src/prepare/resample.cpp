@@ -51,26 +51,29 @@ std::vector<double> box_weights(double width) {
     return weights;
 }
 
-// The box mean of `field` over width × width samples, separably.
-Heightfield box_filter(const Heightfield& field, double width, Tiling tiling) {
-    const std::vector<double> weights = box_weights(width);
-    const int reach = static_cast<int>(weights.size() / 2);
+// The box mean of `field` over width_x × width_y samples, separably (rectangular texels need
+// different widths in samples for one box in µm).
+Heightfield box_filter(const Heightfield& field, double width_x, double width_y, Tiling tiling) {
+    const std::vector<double> weights_x = box_weights(width_x);
+    const int reach_x = static_cast<int>(weights_x.size() / 2);
     const auto cols = static_cast<std::size_t>(field.cols);
     Heightfield along_x = field;
     parallel_for(static_cast<std::size_t>(field.rows), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
         for (std::size_t r = begin; r < end; ++r) {
             const float* row = &field.heights_um[r * cols];
             for (int c = 0; c < field.cols; ++c) {
-                const bool inside = c >= reach && c + reach < field.cols;
+                const bool inside = c >= reach_x && c + reach_x < field.cols;
                 double sum = 0.0;
-                for (int k = -reach; k <= reach; ++k)
-                    sum += weights[static_cast<std::size_t>(k + reach)] *
+                for (int k = -reach_x; k <= reach_x; ++k)
+                    sum += weights_x[static_cast<std::size_t>(k + reach_x)] *
                            (inside ? row[c + k] : extended(row, 1, c + k, field.cols, tiling));
                 along_x.heights_um[r * cols + static_cast<std::size_t>(c)] = static_cast<float>(sum);
             }
         }
     });
     Heightfield filtered = along_x;
+    const std::vector<double> weights = box_weights(width_y);
+    const int reach = static_cast<int>(weights.size() / 2);
     const auto rows = static_cast<std::size_t>(field.rows);
     parallel_for(rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
         std::vector<double> sums(cols);
@@ -98,11 +101,13 @@ Heightfield box_filter(const Heightfield& field, double width, Tiling tiling) {
 // (periodic) interpolant never reaches across to the opposite border inside the original extent.
 Heightfield reflected(const Heightfield& field) {
     Heightfield wide = make_heightfield(field.rows, field.cols + 2 * kMargin, field.texel_um);
+    set_spacing(wide, field.dx_um(), field.dy_um());
     for (int r = 0; r < field.rows; ++r)
         for (int c = 0; c < wide.cols; ++c)
             wide.at(r, c) = static_cast<float>(extended(&field.heights_um[static_cast<std::size_t>(r) * field.cols], 1,
                                                         c - kMargin, field.cols, Tiling::none));
     Heightfield padded = make_heightfield(field.rows + 2 * kMargin, wide.cols, field.texel_um);
+    set_spacing(padded, field.dx_um(), field.dy_um());
     for (int r = 0; r < padded.rows; ++r)
         for (int c = 0; c < padded.cols; ++c)
             padded.at(r, c) = static_cast<float>(extended(&wide.heights_um[static_cast<std::size_t>(c)],
@@ -121,7 +126,8 @@ ResampleReport resample(Heightfield& field, double texel_um, Tiling tiling) {
     if (!(texel_um > 0.0) || !std::isfinite(texel_um))
         throw Error("resample: the texel size must be a positive length, got " + format_length(texel_um));
     ResampleReport report;
-    report.original_texel_um = field.texel_um;
+    report.original_texel_um = field.dx_um();
+    report.original_texel_y_um = field.dy_um();
     report.texel_um = texel_um;
     report.original_rows = field.rows;
     report.original_cols = field.cols;
@@ -135,18 +141,22 @@ ResampleReport resample(Heightfield& field, double texel_um, Tiling tiling) {
     report.cols = static_cast<int>(cols);
     report.rows = static_cast<int>(rows);
     report.tiling = tiling;
-    const double ratio = texel_um / field.texel_um;
-    report.prefiltered = ratio > 1.0;
+    // Per axis: rectangular texels shrink along one axis and may grow along the other.
+    const double ratio_x = texel_um / field.dx_um(), ratio_y = texel_um / field.dy_um();
+    report.prefiltered = ratio_x > 1.0 || ratio_y > 1.0;
 
     Heightfield result = make_heightfield(report.rows, report.cols, texel_um);
     {
-        const Heightfield source = report.prefiltered ? box_filter(field, ratio, tiling) : field;
+        const Heightfield source = report.prefiltered
+                                       ? box_filter(field, std::max(1.0, ratio_x), std::max(1.0, ratio_y), tiling)
+                                       : field;
         const BicubicInterpolant surface(tiling == Tiling::none ? reflected(source) : source);
-        const double margin_um = tiling == Tiling::none ? kMargin * field.texel_um : 0.0;
+        const double margin_x_um = tiling == Tiling::none ? kMargin * field.dx_um() : 0.0;
+        const double margin_y_um = tiling == Tiling::none ? kMargin * field.dy_um() : 0.0;
         // The new grid is centred on the old extent: its first sample centre (lowest y) is at
         // (x0, y0) in the source's frame.
-        const double x0 = 0.5 * (field.width_um() - report.cols * texel_um) + margin_um + 0.5 * texel_um;
-        const double y0 = 0.5 * (field.height_um() - report.rows * texel_um) + margin_um + 0.5 * texel_um;
+        const double x0 = 0.5 * (field.width_um() - report.cols * texel_um) + margin_x_um + 0.5 * texel_um;
+        const double y0 = 0.5 * (field.height_um() - report.rows * texel_um) + margin_y_um + 0.5 * texel_um;
         // Chunks of y-up grid lines j (image row rows − 1 − j).
         parallel_for(static_cast<std::size_t>(result.rows), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
             const int lines = static_cast<int>(end - begin);
@@ -162,24 +172,34 @@ ResampleReport resample(Heightfield& field, double texel_um, Tiling tiling) {
     }
     field.rows = result.rows;
     field.cols = result.cols;
-    field.texel_um = texel_um;
+    set_spacing(field, texel_um, texel_um);
     field.heights_um = std::move(result.heights_um);
     record_preparation(field, describe(report));
     return report;
 }
 
 std::string describe(const ResampleReport& report) {
-    char filter[64] = "bicubic interpolation";
-    if (report.prefiltered)
+    const bool rectangular = report.original_texel_y_um != report.original_texel_um;
+    char filter[96] = "bicubic interpolation";
+    if (report.prefiltered && rectangular)
+        std::snprintf(filter, sizeof filter, "box prefilter over %.4g x %.4g texels",
+                      std::max(1.0, report.texel_um / report.original_texel_um),
+                      std::max(1.0, report.texel_um / report.original_texel_y_um));
+    else if (report.prefiltered)
         std::snprintf(filter, sizeof filter, "box prefilter over %.4g texels",
                       report.texel_um / report.original_texel_um);
-    char line[400];
+    char spacing[64];
+    if (rectangular)
+        std::snprintf(spacing, sizeof spacing, "%.6g x %.6g um", report.original_texel_um, report.original_texel_y_um);
+    else
+        std::snprintf(spacing, sizeof spacing, "%.6g um", report.original_texel_um);
+    char line[460];
     std::snprintf(line, sizeof line,
-                  "resample: %dx%d samples of %.6g um -> %dx%d of %.6g um (extent %.6g x %.6g um -> %.6g x %.6g um), "
+                  "resample: %dx%d samples of %s -> %dx%d of %.6g um (extent %.6g x %.6g um -> %.6g x %.6g um), "
                   "%s, %s borders",
-                  report.original_cols, report.original_rows, report.original_texel_um, report.cols, report.rows,
+                  report.original_cols, report.original_rows, spacing, report.cols, report.rows,
                   report.texel_um, report.original_cols * report.original_texel_um,
-                  report.original_rows * report.original_texel_um, report.cols * report.texel_um,
+                  report.original_rows * report.original_texel_y_um, report.cols * report.texel_um,
                   report.rows * report.texel_um, filter,
                   report.tiling == Tiling::periodic ? "periodic" : "point-reflected");
     return line;

@@ -121,7 +121,7 @@ struct SceneGeometry {
           per_axis(samples_per_axis(settings.samples_per_pixel)),
           half_patch(0.5 * scene.patch_um),
           period_x(scene.query.field->cols * scene.query.field->texel_um),
-          period_y(scene.query.field->rows * scene.query.field->texel_um) {}
+          period_y(scene.query.field->height_um()) {}
 
     // Sub-pixel (a, b) of pixel (row, col): at ((col + (a + ½)/n), (row + (b + ½)/n)) in pixel units.
     ShadingPoint at(int row, int col, int b, int a) const {

@@ -273,7 +273,7 @@ ArealParameters compute_areal_parameters(const Heightfield& field, double thresh
     const bool periodic = field.periodic;
     if (!periodic && (field.rows < 3 || field.cols < 3))
         throw Error("areal parameters need at least 3 x 3 samples (slopes need both neighbours)");
-    const double dx = field.texel_um, dy = field.texel_um;
+    const double dx = field.dx_um(), dy = field.dy_um();
     const ValidHeights valid = valid_heights(field, "areal parameters");
     const double mean = valid.mean;
     const Deviations d = deviations(field, mean, dx, dy);

@@ -6,6 +6,7 @@
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "glintscope/core/units.hpp"
 
 namespace glintscope {
 
@@ -27,8 +28,20 @@ Heightfield make_heightfield(int rows, int cols, double texel_um, float value) {
     return field;
 }
 
+void set_spacing(Heightfield& field, double dx_um, double dy_um) {
+    if (!(dx_um > 0.0) || !std::isfinite(dx_um) || !(dy_um > 0.0) || !std::isfinite(dy_um))
+        throw Error("texel size must be a positive length, got " + shortest_text(dx_um) + " x " + shortest_text(dy_um));
+    field.texel_um = dx_um;
+    field.texel_y_um = dy_um == dx_um ? 0.0 : dy_um;
+}
+
+std::string texel_text(const Heightfield& field) {
+    if (field.square_texels()) return format_length(field.dx_um());
+    return format_length(field.dx_um()) + " x " + format_length(field.dy_um()) + " (x by y)";
+}
+
 Point2 sample_position(const Heightfield& field, int r, int c) {
-    return {(c + 0.5) * field.texel_um, (field.rows - r - 0.5) * field.texel_um};
+    return {(c + 0.5) * field.texel_um, (field.rows - r - 0.5) * field.dy_um()};
 }
 
 std::size_t count_missing(const Heightfield& field) {
@@ -42,7 +55,8 @@ void validate(const Heightfield& field, const std::string& what, bool allow_miss
     if (field.heights_um.size() != static_cast<std::size_t>(field.rows) * field.cols)
         throw Error(what + ": heightfield data size does not match its " + std::to_string(field.cols) + "x" +
                     std::to_string(field.rows) + " grid");
-    if (!(field.texel_um > 0.0) || !std::isfinite(field.texel_um))
+    if (!(field.texel_um > 0.0) || !std::isfinite(field.texel_um) || !(field.texel_y_um >= 0.0) ||
+        !std::isfinite(field.texel_y_um))
         throw Error(what + ": texel size must be positive and finite");
     std::size_t missing = 0;
     for (float h : field.heights_um) {

@@ -20,8 +20,10 @@ BicubicInterpolant::BicubicInterpolant(const Heightfield& field) {
     validate(field, "interpolant", /*allow_missing=*/false);
     rows_ = field.rows;
     cols_ = field.cols;
-    texel_um_ = field.texel_um;
+    texel_um_ = field.dx_um();
+    texel_y_um_ = field.dy_um();
     inverse_texel_ = 1.0 / texel_um_;
+    inverse_texel_y_ = 1.0 / texel_y_um_;
     grid_.resize(field.heights_um.size());
     for (int j = 0; j < rows_; ++j)
         for (int c = 0; c < cols_; ++c) grid_[static_cast<std::size_t>(j) * cols_ + c] = field.at(rows_ - 1 - j, c);
@@ -31,7 +33,7 @@ BicubicInterpolant::BicubicInterpolant(const Heightfield& field) {
                 return static_cast<double>(grid_[static_cast<std::size_t>(wrap(jj, rows_)) * cols_ + wrap(cc, cols_)]);
             };
             const double sx = 0.5 * (g(j, c + 1) - g(j, c - 1)) / texel_um_;
-            const double sy = 0.5 * (g(j + 1, c) - g(j - 1, c)) / texel_um_;
+            const double sy = 0.5 * (g(j + 1, c) - g(j - 1, c)) / texel_y_um_;
             max_slope_ = std::fmax(max_slope_, std::fmax(std::fabs(sx), std::fabs(sy)));
         }
     }
@@ -61,8 +63,8 @@ AxisTaps axis_taps(double s_um, double texel_um, int count) {
     return taps;
 }
 
-SurfacePoint combine(const std::vector<float>& grid, int cols, double inverse_texel, const AxisTaps& x,
-                     const AxisTaps& y) {
+SurfacePoint combine(const std::vector<float>& grid, int cols, double inverse_dx, double inverse_dy,
+                     const AxisTaps& x, const AxisTaps& y) {
     double h = 0.0;
     double dh_du = 0.0;
     double dh_dv = 0.0;
@@ -78,13 +80,14 @@ SurfacePoint combine(const std::vector<float>& grid, int cols, double inverse_te
         dh_du += y.weights.w[m] * along_x_du;
         dh_dv += y.weights.dw[m] * along_x;
     }
-    return {h, dh_du * inverse_texel, dh_dv * inverse_texel};
+    return {h, dh_du * inverse_dx, dh_dv * inverse_dy};
 }
 
 }  // namespace
 
 SurfacePoint BicubicInterpolant::evaluate(double x_um, double y_um) const {
-    return combine(grid_, cols_, inverse_texel_, axis_taps(x_um, texel_um_, cols_), axis_taps(y_um, texel_um_, rows_));
+    return combine(grid_, cols_, inverse_texel_, inverse_texel_y_, axis_taps(x_um, texel_um_, cols_),
+                   axis_taps(y_um, texel_y_um_, rows_));
 }
 
 void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_x_um, double step_y_um, int nx,
@@ -106,7 +109,7 @@ void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_x
         for (FilteredRow& row : cache) row.index = -1;
         int next_slot = 0;
         for (int j = 0; j < ny; ++j) {
-            const AxisTaps y = axis_taps(y0_um + j * step_y_um, texel_um_, rows_);
+            const AxisTaps y = axis_taps(y0_um + j * step_y_um, texel_y_um_, rows_);
             const FilteredRow* rows[4];
             bool in_use[kCachedRows] = {};
             for (int m = 0; m < 4; ++m) {
@@ -143,7 +146,7 @@ void BicubicInterpolant::evaluate_grid(double x0_um, double y0_um, double step_x
                     dh_du += y.weights.w[m] * rows[m]->along_x_du[i];
                     dh_dv += y.weights.dw[m] * rows[m]->along_x[i];
                 }
-                line[i] = {h, dh_du * inverse_texel_, dh_dv * inverse_texel_};
+                line[i] = {h, dh_du * inverse_texel_, dh_dv * inverse_texel_y_};
             }
         }
     }
@@ -207,7 +210,7 @@ CurvatureTaps curvature_taps(double s_um, double texel_um, int count) {
 
 SurfaceCurvature BicubicInterpolant::curvature(double x_um, double y_um) const {
     const CurvatureTaps x = curvature_taps(x_um, texel_um_, cols_);
-    const CurvatureTaps y = curvature_taps(y_um, texel_um_, rows_);
+    const CurvatureTaps y = curvature_taps(y_um, texel_y_um_, rows_);
     double hxx = 0.0, hxy = 0.0, hyy = 0.0;
     for (int m = 0; m < 5; ++m) {
         const float* row = sample_row(y.index[m]);
@@ -221,19 +224,19 @@ SurfaceCurvature BicubicInterpolant::curvature(double x_um, double y_um) const {
         hxy += y.dw[m] * along_x_du;
         hyy += y.d2w[m] * along_x;
     }
-    const double scale = inverse_texel_ * inverse_texel_;
-    return {hxx * scale, hxy * scale, hyy * scale};
+    return {hxx * inverse_texel_ * inverse_texel_, hxy * inverse_texel_ * inverse_texel_y_,
+            hyy * inverse_texel_y_ * inverse_texel_y_};
 }
 
 SurfaceCurvature BicubicInterpolant::sample_curvature(int c, int j) const {
     const auto at = [&](int dc, int dj) {
         return static_cast<double>(sample_row(wrap(j + dj, rows_))[wrap(c + dc, cols_)]);
     };
-    const double scale = 1.0 / (texel_um_ * texel_um_);
     const double hxx = at(-1, 0) - 2.0 * at(0, 0) + at(1, 0);
     const double hyy = at(0, -1) - 2.0 * at(0, 0) + at(0, 1);
     const double hxy = 0.25 * (at(1, 1) - at(-1, 1) - at(1, -1) + at(-1, -1));
-    return {hxx * scale, hxy * scale, hyy * scale};
+    return {hxx * inverse_texel_ * inverse_texel_, hxy * inverse_texel_ * inverse_texel_y_,
+            hyy * inverse_texel_y_ * inverse_texel_y_};
 }
 
 double BicubicInterpolant::height(double x_um, double y_um) const { return evaluate(x_um, y_um).height; }

@@ -19,7 +19,7 @@ std::vector<float> slope_distribution(const Heightfield& field, int resolution) 
     validate(field, "slope distribution", /*allow_missing=*/true);
     if (resolution < 2 || resolution > 4096)
         throw Error("the slope distribution's resolution must lie in [2, 4096], got " + std::to_string(resolution));
-    const double dx = field.texel_um, dy = field.texel_um;
+    const double dx = field.dx_um(), dy = field.dy_um();
     const std::size_t pixels = static_cast<std::size_t>(resolution) * resolution;
     const std::size_t chunks = (field.rows + kRowsPerChunk - 1) / kRowsPerChunk;
     std::vector<std::vector<double>> counts(chunks);

@@ -36,7 +36,7 @@ PowerSpectralDensity compute_power_spectral_density(const Heightfield& field) {
     validate(field, "power spectral density", /*allow_missing=*/true);
     const double mean = valid_heights(field, "the power spectral density").mean;
     const int rows = field.rows, cols = field.cols;
-    const double dx = field.texel_um, dy = field.texel_um;
+    const double dx = field.dx_um(), dy = field.dy_um();
     const std::vector<float> window_x = window_of(cols, field.periodic), window_y = window_of(rows, field.periodic);
     double window_power = 0.0, weighted_squares = 0.0;
     for (int r = 0; r < rows; ++r)
@@ -118,7 +118,7 @@ AutocorrelationCurves compute_autocorrelation_curves(const Heightfield& field, d
     check_threshold(threshold);
     const ValidHeights valid = valid_heights(field, "the autocorrelation");
     if (valid.lowest == valid.highest) throw Error("the autocorrelation needs heights that vary (Sq = 0)");
-    const double dx = field.texel_um, dy = field.texel_um;
+    const double dx = field.dx_um(), dy = field.dy_um();
     const Autocorrelation acf(field, valid);
     AutocorrelationCurves curves;
     curves.parameters.threshold = threshold;

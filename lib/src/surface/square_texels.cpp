@@ -92,9 +92,9 @@ double round_trip_change(const Heightfield& before, const Heightfield& after, bo
 
 }  // namespace
 
-SquareTexelReport make_texels_square(Heightfield& field, double dy_um, std::size_t max_samples,
-                                     const std::string& what) {
-    const double dx_um = field.texel_um;
+SquareTexelReport make_texels_square(Heightfield& field, std::size_t max_samples, const std::string& what) {
+    validate(field, what, /*allow_missing=*/true);
+    const double dx_um = field.dx_um(), dy_um = field.dy_um();
     if (!(dx_um > 0.0 && dy_um > 0.0) || !std::isfinite(dx_um) || !std::isfinite(dy_um))
         throw Error(what + ": the sample spacing must be positive and finite, got " + format_length(dx_um) + " x " +
                     format_length(dy_um));

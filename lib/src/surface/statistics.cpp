@@ -69,7 +69,8 @@ MomentSums moments(const Heightfield& field) {
 DeviationSums deviations(const Heightfield& field, double mean) {
     const int rows = field.rows;
     const int cols = field.cols;
-    const double inverse_span = 1.0 / (2.0 * field.texel_um);
+    const double inverse_span_x = 1.0 / (2.0 * field.dx_um());
+    const double inverse_span_y = 1.0 / (2.0 * field.dy_um());
     const std::size_t chunks = (rows + kRowsPerChunk - 1) / kRowsPerChunk;
     std::vector<DeviationSums> partial(chunks);
     parallel_for(rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
@@ -86,7 +87,7 @@ DeviationSums deviations(const Heightfield& field, double mean) {
                 const double left = field.at(r, c > 0 ? c - 1 : cols - 1);
                 const double right = field.at(r, c + 1 < cols ? c + 1 : 0);
                 if (!std::isnan(left) && !std::isnan(right)) {
-                    const double slope = (right - left) * inverse_span;
+                    const double slope = (right - left) * inverse_span_x;
                     sums.slope_x_squares += slope * slope;
                     ++sums.slope_x_count;
                 }
@@ -94,7 +95,7 @@ DeviationSums deviations(const Heightfield& field, double mean) {
                 const double above = field.at(up, c);
                 const double below = field.at(down, c);
                 if (!std::isnan(above) && !std::isnan(below)) {
-                    const double slope = (above - below) * inverse_span;
+                    const double slope = (above - below) * inverse_span_y;
                     sums.slope_y_squares += slope * slope;
                     ++sums.slope_y_count;
                 }
@@ -269,7 +270,7 @@ SurfaceStatistics compute_statistics(const Heightfield& field) {
     stats.correlation_threshold = kCorrelationThreshold;
     const CorrelationLength x = correlation_length(along_x, cols, static_cast<double>(rows) * cols, field.texel_um,
                                                    kCorrelationThreshold);
-    const CorrelationLength y = correlation_length(along_y, rows, static_cast<double>(rows) * cols, field.texel_um,
+    const CorrelationLength y = correlation_length(along_y, rows, static_cast<double>(rows) * cols, field.dy_um(),
                                                    kCorrelationThreshold);
     stats.correlation_length_x_um = x.length_um;
     stats.correlation_length_y_um = y.length_um;

@@ -171,6 +171,24 @@ TEST_P(RoundTrip, HeightsAreBitExactAndMetadataSurvives) {
     }
 }
 
+// A 2:1 field (and an awkward ratio) comes back with the same samples and both spacings; NPY keeps
+// no spacing at all, so there it is the samples alone (convert says so).
+TEST_P(RoundTrip, RectangularTexelsSurviveExactly) {
+    TemporaryDirectory directory;
+    const std::string path = directory.file("rect." + GetParam());
+    for (const auto& [dx, dy] : {std::pair{1.0, 2.0}, std::pair{0.3141592653589793, 0.2718281828459045}}) {
+        Heightfield original = awkward_field(9, 14, dx);
+        set_spacing(original, dx, dy);
+        save_heightfield(path, original);
+        const Heightfield loaded = load_heightfield(path);
+        expect_identical_heights(original, loaded);
+        if (GetParam() == "npy") continue;
+        EXPECT_EQ(loaded.dx_um(), dx);
+        EXPECT_EQ(loaded.dy_um(), dy);
+        EXPECT_EQ(loaded.provenance.count("square_texels"), 0u);
+    }
+}
+
 TEST_P(RoundTrip, RampInPlusYStaysARampInPlusY) {
     TemporaryDirectory directory;
     const std::string path = directory.file("ramp." + GetParam());
@@ -392,9 +410,9 @@ TEST(HeightfieldIo, X3pVariantsAsWrittenInTheField) {
     EXPECT_NE(load_error(directory.file("wrong.x3p")).find("root element 'ISO25178'"), std::string::npos);
 }
 
-// Instruments' spacings differ in x and y (calibration, line scanners): the reader resamples the
-// coarser axis to the finer spacing and records it; a --texel declares the texels square.
-TEST(HeightfieldIo, X3pRectangularSpacingIsResampledToSquareTexelsAndRecorded) {
+// Instruments' spacings differ in x and y (calibration, line scanners): the reader keeps them
+// and the samples as they are; a --texel declares the texels square.
+TEST(HeightfieldIo, X3pRectangularSpacingIsKeptAsRead) {
     TemporaryDirectory directory;
     const std::string path = directory.file("rect.x3p");
     std::string xml = main_xml({});
@@ -404,14 +422,16 @@ TEST(HeightfieldIo, X3pRectangularSpacingIsResampledToSquareTexelsAndRecorded) {
         for (int i = 0; i < 4; ++i) ramp.push_back(j * 1e-6);
     write_zip(path, {{"main.xml", xml}, {"bindata/data.bin", binary(ramp)}});
     const Heightfield field = load_heightfield(path);
-    ASSERT_EQ(field.rows, 6);
+    ASSERT_EQ(field.rows, 3);
     ASSERT_EQ(field.cols, 4);
-    EXPECT_EQ(field.texel_um, 1.0);
-    // Catmull–Rom reproduces a linear profile exactly: at y = (r + ½)·1 µm, h = y/2 − ½.
-    for (int r = 0; r < 6; ++r) EXPECT_NEAR(field.at(5 - r, 2), 0.5 * r - 0.25, 1e-6) << r;
-    EXPECT_NE(field.provenance.at("square_texels").find("rows 3 -> 6"), std::string::npos);
-    EXPECT_EQ(load_heightfield(path, options_with("", {}, 1.5)).texel_um, 1.5);
-    EXPECT_EQ(load_heightfield(path, options_with("", {}, 1.5)).provenance.count("square_texels"), 0u);
+    EXPECT_EQ(field.dx_um(), 1.0);
+    EXPECT_DOUBLE_EQ(field.dy_um(), 2.0);
+    EXPECT_DOUBLE_EQ(field.height_um(), 6.0);
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(field.at(2 - j, 2), static_cast<float>(j)) << j;  // samples untouched
+    EXPECT_EQ(field.provenance.count("square_texels"), 0u);
+    const Heightfield declared = load_heightfield(path, options_with("", {}, 1.5));
+    EXPECT_EQ(declared.texel_um, 1.5);
+    EXPECT_TRUE(declared.square_texels());
 
     xml.replace(xml.rfind("<Increment>2e-06"), 16, "<Increment>2e-05");  // 20:1
     write_zip(path, {{"main.xml", xml}, {"bindata/data.bin", binary(ramp)}});

@@ -149,6 +149,21 @@ TEST(Colormap, PngShowsEachValueInItsColourAndMissingInGrey) {
     EXPECT_GT(dark, 20);
 }
 
+// Rectangular texels are drawn at their true aspect: each row of a 1 x 2 um field twice, so that a
+// pixel is as tall as it is wide in um; a 2 x 1 field repeats its columns instead.
+TEST(Colormap, RectangularTexelsAreDrawnAtTheirTrueAspect) {
+    const ScalarImage image{2, 3, {1, 2, 3, 4, 5, 6}};
+    const ScalarImage tall = at_true_aspect(image, 3.0, 4.0);  // dx 1, dy 2
+    ASSERT_EQ(tall.rows, 4);
+    ASSERT_EQ(tall.cols, 3);
+    EXPECT_EQ(tall.values, (std::vector<float>{1, 2, 3, 1, 2, 3, 4, 5, 6, 4, 5, 6}));
+    const ScalarImage wide = at_true_aspect(image, 6.0, 2.0);  // dx 2, dy 1
+    ASSERT_EQ(wide.rows, 2);
+    ASSERT_EQ(wide.cols, 6);
+    EXPECT_EQ(wide.values, (std::vector<float>{1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6}));
+    EXPECT_EQ(at_true_aspect(image, 3.0, 2.0).values, image.values);  // square: unchanged
+}
+
 TEST(Colormap, PngRejectsBadInputWithoutLeavingAFile) {
     TemporaryDirectory directory;
     const ScalarImage image{1, 2, {0.0f, 1.0f}};

@@ -50,6 +50,22 @@ TEST(GaussianFilter, SinusoidsPassByTheTransmissionOfTheStandard) {
     EXPECT_EQ(recorded.provenance.at("prepare.1"), "L-filter: ISO 16610-61 Gaussian, nesting index 80 um");
 }
 
+// Rectangular texels: a sinusoid along y on rows 2 µm apart (columns 0.5 µm) is filtered by its
+// wavelength in µm, as the standard's transmission says.
+TEST(GaussianFilter, RectangularTexelsFilterEachAxisInMicrometres) {
+    const double wavelength = 32.0;
+    Heightfield field = make_heightfield(64, 8, 0.5);  // 4 µm x 128 µm: 4 periods along y
+    set_spacing(field, 0.5, 2.0);
+    for (int r = 0; r < field.rows; ++r)
+        for (int c = 0; c < field.cols; ++c)
+            field.at(r, c) = static_cast<float>(std::sin(2.0 * kPi * sample_position(field, r, c).y / wavelength));
+    for (const double nesting : {wavelength, 0.5 * wavelength}) {
+        Heightfield smooth = field;
+        apply_s_filter(smooth, nesting);
+        EXPECT_NEAR(amplitude(smooth), transmission(nesting, wavelength), 2e-4) << nesting;
+    }
+}
+
 TEST(GaussianFilter, NonPeriodicPlanesPassAndMissingPointsStayMissing) {
     Heightfield plane = make_heightfield(60, 80, 1.0);
     plane.periodic = false;

@@ -65,6 +65,27 @@ TEST(Orient, QuarterTurnMapsSampleRCToColumnR) {
               "orient: 5x3 samples, rotated 90 degrees counter-clockwise in map view");
 }
 
+// Rectangular texels turn with the field: the rows' spacing becomes the columns'.
+TEST(Orient, QuarterTurnSwapsRectangularSpacings) {
+    Heightfield original = numbered_field();
+    set_spacing(original, 0.5, 1.5);
+    Heightfield turned = original;
+    orient(turned, {false, false, 90});
+    EXPECT_EQ(turned.dx_um(), 1.5);
+    EXPECT_EQ(turned.dy_um(), 0.5);
+    for (int r = 0; r < turned.rows; ++r)
+        for (int c = 0; c < turned.cols; ++c) {
+            const Point2 before = sample_position(original, c, original.cols - 1 - r);
+            const Point2 after = sample_position(turned, r, c);
+            EXPECT_DOUBLE_EQ(after.x, original.height_um() - before.y);
+            EXPECT_DOUBLE_EQ(after.y, before.x);
+        }
+    orient(turned, {false, false, 270});
+    EXPECT_EQ(turned.dx_um(), 0.5);
+    EXPECT_EQ(turned.dy_um(), 1.5);
+    EXPECT_EQ(turned.heights_um, original.heights_um);
+}
+
 TEST(Orient, OtherAnglesAreRefused) {
     Heightfield field = numbered_field();
     EXPECT_THROW(orient(field, {false, false, 45}), Error);

@@ -289,6 +289,13 @@ TEST(RemoveForm, ExactPlaneLeavesZero) {
     EXPECT_NEAR(report.rms_removed_um, std::sqrt(0.01 * 0.01 * var_x + 0.02 * 0.02 * var_y), 1e-3);
     EXPECT_LE(report.rms_residual_um, 1e-6);
     EXPECT_EQ(field.provenance["prepare.1"].rfind("remove_form: plane", 0), 0u);
+
+    // Rectangular texels (rows 1.9 µm apart): the slopes come out in µm per µm along each axis.
+    Heightfield rectangular = sampled_field(37, 53, 0.7, 1.9, plane);
+    const FormReport rectangular_report = remove_form(rectangular, 1);
+    EXPECT_NEAR(rectangular_report.slope_x, 0.01, 1e-9);
+    EXPECT_NEAR(rectangular_report.slope_y, -0.02, 1e-9);
+    EXPECT_LE(rectangular_report.rms_residual_um, 1e-6);
 }
 
 TEST(RemoveForm, PolynomialOfOrderNIsRemovedByOrderNButNotByOrderNMinusOne) {
@@ -440,18 +447,24 @@ double periodic_surface_area_mean(double x, double y, double a) {
            0.5 * std::cos(kx2 * x + ky2 * y) * sinc(kx2 * a / 2) * sinc(ky2 * a / 2);
 }
 
+// The largest |field − surface| over the field's samples.
+double largest_deviation(const Heightfield& field, const HeightFunction& surface) {
+    double worst = 0.0;
+    for (int r = 0; r < field.rows; ++r)
+        for (int c = 0; c < field.cols; ++c) {
+            const Point2 s = sample_position(field, r, c);
+            worst = std::fmax(worst, std::fabs(field.at(r, c) - surface(s.x, s.y)));
+        }
+    return worst;
+}
+
 TEST(Resample, UpsamplingMatchesTheAnalyticSurface) {
     Heightfield field = sampled_field(48, 64, 1.0, periodic_surface);
     const ResampleReport report = resample(field, 0.4, Tiling::periodic);
     EXPECT_FALSE(report.prefiltered);
     ASSERT_EQ(field.cols, 160);
     ASSERT_EQ(field.rows, 120);
-    double worst = 0.0;
-    for (int r = 0; r < field.rows; ++r)
-        for (int c = 0; c < field.cols; ++c) {
-            const Point2 s = sample_position(field, r, c);
-            worst = std::fmax(worst, std::fabs(field.at(r, c) - periodic_surface(s.x, s.y)));
-        }
+    const double worst = largest_deviation(field, periodic_surface);
     // Catmull–Rom with 24 samples per shortest wavelength: within 0.1% of the amplitude 1.5.
     EXPECT_LT(worst, 1.5e-3);
 }
@@ -462,12 +475,8 @@ TEST(Resample, DownsamplingGivesTheAreaMeanOfTheSurface) {
     EXPECT_TRUE(report.prefiltered);
     ASSERT_EQ(field.cols, 32);
     ASSERT_EQ(field.rows, 24);
-    double worst = 0.0;
-    for (int r = 0; r < field.rows; ++r)
-        for (int c = 0; c < field.cols; ++c) {
-            const Point2 s = sample_position(field, r, c);
-            worst = std::fmax(worst, std::fabs(field.at(r, c) - periodic_surface_area_mean(s.x, s.y, 2.0)));
-        }
+    const double worst =
+        largest_deviation(field, [](double x, double y) { return periodic_surface_area_mean(x, y, 2.0); });
     // Within 0.5% of the amplitude of the mean over each new 2 µm texel.
     EXPECT_LT(worst, 0.0075);
 }
@@ -527,6 +536,39 @@ TEST(Resample, SameTexelKeepsTheSamples) {
     resample(field, 0.8);
     ASSERT_EQ(field.size(), original.size());
     for (std::size_t k = 0; k < field.size(); ++k) EXPECT_NEAR(field.heights_um[k], original.heights_um[k], 1e-6);
+}
+
+// Rectangular texels: crop snaps each axis to its own spacing and keeps both; resample makes
+// square texels from rectangular ones, on the same surface.
+TEST(Crop, RectangularTexelsSnapEachAxisToItsOwnSpacing) {
+    Heightfield field = sampled_field(40, 100, 0.5, 2.0, [](double x, double y) { return x - 2.0 * y; });
+    const CropReport report = crop(field, {10.0, 20.0, 30.0, 40.0});
+    EXPECT_EQ(field.cols, 60);  // x from 10/0.5 = 20 to 40/0.5 = 80
+    EXPECT_EQ(field.rows, 20);  // y from 20/2 = 10 to 60/2 = 30
+    EXPECT_EQ(field.dx_um(), 0.5);
+    EXPECT_EQ(field.dy_um(), 2.0);
+    EXPECT_EQ(report.origin_um.y, 20.0);
+    for (int r = 0; r < field.rows; r += 3)
+        for (int c = 0; c < field.cols; c += 7) {
+            const Point2 s = sample_position(field, r, c);
+            EXPECT_FLOAT_EQ(field.at(r, c), (s.x + report.origin_um.x) - 2.0 * (s.y + report.origin_um.y));
+        }
+    EXPECT_NE(describe(report).find("y 20..60 um"), std::string::npos) << describe(report);
+}
+
+TEST(Resample, RectangularTexelsBecomeSquareOnTheSameSurface) {
+    Heightfield field = sampled_field(72, 64, 1.0, 2.0 / 3.0, periodic_surface);  // 64 x 48 um
+    const ResampleReport report = resample(field, 0.8, Tiling::periodic);
+    EXPECT_TRUE(report.prefiltered);  // y grows from 2/3 to 0.8 um: box over 1.2 rows
+    EXPECT_EQ(report.original_texel_y_um, 2.0 / 3.0);
+    ASSERT_EQ(field.cols, 80);
+    ASSERT_EQ(field.rows, 60);
+    EXPECT_TRUE(field.square_texels());
+    const double worst = largest_deviation(field, periodic_surface);
+    // The 1.2-row box along y damps the 24 µm wave by 1 − sinc(π·0.8/24) ≈ 0.2%, and the
+    // interpolation errs by ~0.1% of the amplitude 1.5.
+    EXPECT_LT(worst, 8e-3);
+    EXPECT_NE(describe(report).find("1 x 0.666667 um"), std::string::npos) << describe(report);
 }
 
 TEST(Resample, RejectsBadTexelsAndMissingPoints) {

@@ -1,6 +1,6 @@
-// Rectangular texels made square: the same analytic surface sampled at 1 × 1 µm and at
-// 1 × 2 µm (rows 2 µm apart) gives the same field, statistics and ISO parameters once the
-// 1 × 2 sampling is resampled along y.
+// Rectangular texels made square (for the methods that need them): the same analytic surface
+// sampled at 1 × 1 µm and at 1 × 2 µm (rows 2 µm apart) gives the same field, statistics and ISO
+// parameters once the 1 × 2 sampling is resampled along y.
 #include "glintscope/surface/square_texels.hpp"
 
 #include <gtest/gtest.h>
@@ -21,6 +21,7 @@ constexpr double kPi = 3.14159265358979323846;
 // apart and rows dy apart, one period of every term (periodic).
 Heightfield waves(int rows, double dy_um) {
     Heightfield field = make_heightfield(rows, 64, 1.0);
+    set_spacing(field, 1.0, dy_um);
     const double height = rows * dy_um;  // 64 µm
     for (int r = 0; r < rows; ++r)
         for (int c = 0; c < 64; ++c) {
@@ -34,7 +35,7 @@ Heightfield waves(int rows, double dy_um) {
 TEST(SquareTexels, TwoToOneSamplingEqualsTheSquareSamplingOfTheSameSurface) {
     const Heightfield square = waves(64, 1.0);
     Heightfield rectangular = waves(32, 2.0);
-    const SquareTexelReport report = make_texels_square(rectangular, 2.0, 1u << 20, "test");
+    const SquareTexelReport report = make_texels_square(rectangular, 1u << 20, "test");
     ASSERT_EQ(rectangular.rows, 64);
     ASSERT_EQ(rectangular.cols, 64);
     EXPECT_EQ(rectangular.texel_um, 1.0);
@@ -56,9 +57,10 @@ TEST(SquareTexels, TwoToOneSamplingEqualsTheSquareSamplingOfTheSameSurface) {
 
 TEST(SquareTexels, NearlySquareSpacingKeepsTheGridAndSaysHowMuchChanged) {
     Heightfield field = waves(64, 1.0);
+    set_spacing(field, 1.0, 1.0005);
     field.periodic = false;
     const Heightfield before = field;
-    const SquareTexelReport report = make_texels_square(field, 1.0005, 1u << 20, "test");
+    const SquareTexelReport report = make_texels_square(field, 1u << 20, "test");
     EXPECT_EQ(field.rows, 64);  // round(64 · 1.0005) = 64
     EXPECT_EQ(field.texel_um, 1.0);
     // Rows move by at most 32 × 0.0005 texel: the heights by about that times the slope (≤ 0.1).
@@ -75,7 +77,7 @@ TEST(SquareTexels, MissingPointsStayMissingOnlyWhereTheKernelReadsThem) {
     Heightfield field = waves(32, 2.0);
     field.periodic = false;
     field.at(10, 5) = std::numeric_limits<float>::quiet_NaN();
-    make_texels_square(field, 2.0, 1u << 20, "test");
+    make_texels_square(field, 1u << 20, "test");
     int missing = 0;
     for (int r = 0; r < field.rows; ++r)
         for (int c = 0; c < field.cols; ++c)
@@ -90,9 +92,11 @@ TEST(SquareTexels, MissingPointsStayMissingOnlyWhereTheKernelReadsThem) {
 
 TEST(SquareTexels, AbsurdAspectsAndSizesAreRefusedInOneLine) {
     Heightfield field = waves(32, 2.0);
-    EXPECT_THROW(make_texels_square(field, 20.0, 1u << 20, "test"), Error);
-    EXPECT_THROW(make_texels_square(field, 2.0, 1000, "test"), Error);
-    EXPECT_THROW(make_texels_square(field, std::nan(""), 1u << 20, "test"), Error);
+    EXPECT_THROW(make_texels_square(field, 1000, "test"), Error);
+    field.texel_y_um = 20.0;
+    EXPECT_THROW(make_texels_square(field, 1u << 20, "test"), Error);
+    field.texel_y_um = std::nan("");
+    EXPECT_THROW(make_texels_square(field, 1u << 20, "test"), Error);
 }
 
 }  // namespace

@@ -27,6 +27,9 @@ struct MethodInfo {
     bool wave_optics = false;          // its lobes carry the coherence blur λ/(2πσ_c)
     bool whole_field = false;          // it answers FootprintShape::whole
     bool exact_pixels = false;         // it can integrate pixels exactly (supersample exact, its automatic choice)
+    // It reads square texels only: the pipeline resamples a field with dx ≠ dy to square texels
+    // first (surface/square_texels.hpp) and records it (metadata heightfield.square_texels).
+    bool needs_square_texels = false;
 
     bool answers(Quantity quantity) const;
     bool ignores(QueryField field) const;

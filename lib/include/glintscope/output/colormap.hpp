@@ -48,6 +48,11 @@ inline constexpr float kMissingGrey = 0.5f;
 // the mean of the valid values of its block). NaN stays NaN where a block has no valid value.
 ScalarImage resize_for_display(const ScalarImage& image, int min_side, int max_side);
 
+// The image with its shorter-in-µm axis repeated (nearest neighbour) so that its pixels are
+// square in µm: a field of rectangular texels, `width_um` × `height_um` in all, drawn at its true
+// aspect. Returns the image itself when its pixels already have that aspect.
+ScalarImage at_true_aspect(const ScalarImage& image, double width_um, double height_um);
+
 // Writes an 8-bit sRGB PNG, atomically: the image colour-mapped, a colour bar beside it with
 // the min and max values written at its ends, and the label above. Images smaller than 256
 // pixels on their long side are enlarged by an integer factor (nearest neighbour, so each

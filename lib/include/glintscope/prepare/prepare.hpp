@@ -118,7 +118,8 @@ struct CropReport {
     Point2 origin_um;        // the crop's lower-left corner in the original field's frame
     int original_rows = 0;
     int original_cols = 0;
-    double texel_um = 1.0;
+    double texel_um = 1.0;    // dx
+    double texel_y_um = 1.0;  // dy
     bool ended_periodicity = false;  // a periodic field was cut to a part of itself
 };
 
@@ -135,7 +136,8 @@ CropReport crop(Heightfield& field, const CropRegion& region);
 // ---- Resample (lib/src/resample.cpp) ------------------------------------------------------
 
 struct ResampleReport {
-    double original_texel_um = 0.0;
+    double original_texel_um = 0.0;    // dx
+    double original_texel_y_um = 0.0;  // dy (the result's texels are square)
     double texel_um = 0.0;
     int original_rows = 0;
     int original_cols = 0;
@@ -145,12 +147,12 @@ struct ResampleReport {
     Tiling tiling = Tiling::none;
 };
 
-// Resamples to `texel_um`. The new grid has round(extent / texel) samples per axis (at least
-// one), centred on the old extent, so the physical size changes by at most half a new texel
-// per axis. Upsampling samples the shared BicubicInterpolant (the surface is unchanged);
-// downsampling first averages the samples over the new texel's area (a box prefilter that
-// removes most detail the coarser grid cannot hold) and then samples the interpolant of that
-// average. The field must have no missing points. Throws Error for missing points, for
+// Resamples to square texels of `texel_um` (from square or rectangular ones). The new grid has
+// round(extent / texel) samples per axis (at least one), centred on the old extent, so the
+// physical size changes by at most half a new texel per axis. Upsampling samples the shared
+// BicubicInterpolant (the surface is unchanged); downsampling first averages the samples over the
+// new texel's area (a box prefilter, each axis by its own ratio, that removes most detail the
+// coarser grid cannot hold) and then samples the interpolant of that average. The field must have no missing points. Throws Error for missing points, for
 // non-positive or non-finite texels, and for results beyond 2^31 samples.
 ResampleReport resample(Heightfield& field, double texel_um, Tiling tiling = Tiling::none);
 

@@ -2,7 +2,8 @@
 // The one heightfield interpolant every method uses (conventions.md "Heightfield
 // interpolation"): a periodic bicubic Catmull–Rom (Keys a = −1/2) surface. It passes through
 // every sample, is C¹, reproduces quadratics exactly, and its analytic gradient H' converges
-// to the true gradient to second order in dx.
+// to the true gradient to second order in dx. Texels may be rectangular: x reads the field's dx,
+// y its dy (heightfield.hpp).
 #include <vector>
 
 #include "glintscope/surface/heightfield.hpp"
@@ -46,7 +47,7 @@ public:
                        SurfacePoint* out) const;
     // evaluate() at the samples themselves, where the weights reduce to the sample and central
     // differences: sample columns c0 … c0 + nx − 1 and y-up rows j0 … j0 + ny − 1 (sample (c, j)
-    // at ((c + ½)dx, (j + ½)dx), indices wrapped periodically), into out[j·nx + i].
+    // at ((c + ½)dx, (j + ½)dy), indices wrapped periodically), into out[j·nx + i].
     void evaluate_samples(long long c0, long long j0, int nx, int ny, SurfacePoint* out) const;
     // The same at one sample (c, j), 0 ≤ c < cols(), 0 ≤ j < rows() (y-up). At t = 0 the
     // Catmull–Rom weights are (0, 1, 0, 0) and their derivatives (−½, 0, ½, 0).
@@ -57,19 +58,21 @@ public:
         const int left = c == 0 ? cols_ - 1 : c - 1;
         const int right = c + 1 == cols_ ? 0 : c + 1;
         return {row[c], (-0.5 * row[left] + 0.5 * row[right]) * inverse_texel_,
-                (-0.5 * below[c] + 0.5 * above[c]) * inverse_texel_};
+                (-0.5 * below[c] + 0.5 * above[c]) * inverse_texel_y_};
     }
     // H'' at s (µm), as SurfaceCurvature describes.
     SurfaceCurvature curvature(double x_um, double y_um) const;
     // curvature() at the sample (c, j), 0 ≤ c < cols(), 0 ≤ j < rows() (y-up): the second
-    // differences (H(c−1) − 2H(c) + H(c+1))/dx² along each axis and the mixed one (H(c+1, j+1) −
-    // H(c−1, j+1) − H(c+1, j−1) + H(c−1, j−1))/(4dx²).
+    // differences (H(c−1) − 2H(c) + H(c+1))/dx² (dy² along y) and the mixed one (H(c+1, j+1) −
+    // H(c−1, j+1) − H(c+1, j−1) + H(c−1, j−1))/(4dx·dy).
     SurfaceCurvature sample_curvature(int c, int j) const;
     // The samples of y-up row j (0 ≤ j < rows()), cols() of them, for code that tests many
     // samples' central differences at once.
     const float* sample_row(int j) const { return grid_.data() + static_cast<std::size_t>(j) * cols_; }
 
-    double texel_um() const { return texel_um_; }
+    double texel_um() const { return texel_um_; }      // dx
+    double texel_y_um() const { return texel_y_um_; }  // dy
+    bool square_texels() const { return texel_y_um_ == texel_um_; }
     int rows() const { return rows_; }
     int cols() const { return cols_; }
     // Largest |∂H/∂x|, |∂H/∂y| over the sample grid: bounds the phase slope for sampling choices.
@@ -79,9 +82,11 @@ private:
     int rows_ = 0;
     int cols_ = 0;
     double texel_um_ = 1.0;
-    double inverse_texel_ = 1.0;  // 1/dx: derivatives multiply by it, identically everywhere
+    double texel_y_um_ = 1.0;
+    double inverse_texel_ = 1.0;    // 1/dx: x derivatives multiply by it, identically everywhere
+    double inverse_texel_y_ = 1.0;  // 1/dy, the same for y
     double max_slope_ = 0.0;
-    std::vector<float> grid_;  // y-up order: grid_[j·cols + c] is the sample at y = (j + 0.5)·dx
+    std::vector<float> grid_;  // y-up order: grid_[j·cols + c] is the sample at y = (j + 0.5)·dy
 };
 
 }  // namespace glintscope

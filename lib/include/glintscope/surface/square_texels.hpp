@@ -1,11 +1,12 @@
 #pragma once
-// Rectangular texels made square. Instruments' sample spacings differ in x and y, by their
-// calibration (0.01–0.1% on focus-variation scans) or by design (line scanners, stitched maps),
-// while every method here takes one texel size. A field sampled at dx × dy is therefore resampled
-// along its coarser axis onto the finer spacing with the shared interpolant's Catmull–Rom kernel
-// (conventions.md "Heightfield interpolation"), keeping the extent's centre: no sample is
-// dropped and nothing is smoothed (upsampling only). The readers record what was done and its
-// size in the field's provenance, so the change is never silent.
+// Rectangular texels made square, for the methods that want square texels (MethodInfo::
+// needs_square_texels: Gabor's kernel grid). Instruments' sample spacings differ in x and y, by
+// their calibration (0.01–0.1% on focus-variation scans) or by design (line scanners, stitched
+// maps); fields keep them as read, and most code works with dx ≠ dy. For the others a field
+// sampled at dx × dy is resampled along its coarser axis onto the finer spacing with the shared
+// interpolant's Catmull–Rom kernel (conventions.md "Heightfield interpolation"), keeping the
+// extent's centre: no sample is dropped and nothing is smoothed (upsampling only). The caller
+// records what was done and its size (describe()), so the change is never silent.
 #include <cstddef>
 #include <string>
 
@@ -28,12 +29,11 @@ struct SquareTexelReport {
     double period_change = 0.0;
 };
 
-// `field` holds columns field.texel_um (dx) apart and rows dy_um apart; on return its texels are
-// square. Missing points stay missing: a new sample is missing when a sample its kernel reads is.
+// `field` holds columns dx apart and rows dy apart (Heightfield::dy_um()); on return its texels
+// are square. Missing points stay missing: a new sample is missing when a sample its kernel reads is.
 // Throws Error (naming `what`) for a spacing ratio beyond kMaxTexelAspect or a result of more
 // than `max_samples` samples.
-SquareTexelReport make_texels_square(Heightfield& field, double dy_um, std::size_t max_samples,
-                                     const std::string& what);
+SquareTexelReport make_texels_square(Heightfield& field, std::size_t max_samples, const std::string& what);
 
 // One line for the provenance ("square_texels") and `info`: the spacings, the axis resampled,
 // the sample counts and the round-trip change.

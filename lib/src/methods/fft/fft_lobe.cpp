@@ -277,7 +277,7 @@ constexpr double kSlopePadding = 1.02;
 // cells across), padded; sample_for_wavelength checks them on the final grid.
 SlopeBound footprint_slopes(const BicubicInterpolant& surface, const FootprintExtent& extent) {
     const double widest = std::max(extent.half_width_um.x, extent.half_width_um.y);
-    const double step = std::max(0.25 * surface.texel_um(), 2.0 * widest / 1024.0);
+    const double step = std::max(0.25 * std::min(surface.texel_um(), surface.texel_y_um()), 2.0 * widest / 1024.0);
     const FootprintSamples coarse =
         sample_footprint(surface, extent, sample_axis(extent, true, step, kMaxSamplesPerAxis),
                          sample_axis(extent, false, step, kMaxSamplesPerAxis), false);

@@ -32,8 +32,11 @@ int wrap(long long index, int count) {
 
 Heightfield gaussian_smoothed(const Heightfield& field, double sigma_um) {
     if (sigma_um == 0.0) return field;
-    const std::vector<double> taps = gaussian_taps(sigma_um / field.texel_um);
+    // One σ in µm: as many taps along each axis as its spacing needs (dx ≠ dy is fine).
+    const std::vector<double> taps = gaussian_taps(sigma_um / field.dx_um());
     const int radius = static_cast<int>(taps.size() / 2);
+    const std::vector<double> taps_y = gaussian_taps(sigma_um / field.dy_um());
+    const int radius_y = static_cast<int>(taps_y.size() / 2);
     std::vector<double> along_x(field.size());
     parallel_for(field.rows, 8, [&](std::size_t begin, std::size_t end) {
         for (std::size_t r = begin; r < end; ++r)
@@ -49,8 +52,8 @@ Heightfield gaussian_smoothed(const Heightfield& field, double sigma_um) {
         for (std::size_t r = begin; r < end; ++r)
             for (int c = 0; c < field.cols; ++c) {
                 double sum = 0.0;
-                for (int k = -radius; k <= radius; ++k)
-                    sum += taps[k + radius] *
+                for (int k = -radius_y; k <= radius_y; ++k)
+                    sum += taps_y[k + radius_y] *
                            along_x[static_cast<std::size_t>(wrap(static_cast<long long>(r) + k, field.rows)) * field.cols + c];
                 smoothed.at(static_cast<int>(r), c) = static_cast<float>(sum);
             }

@@ -518,7 +518,7 @@ LobeImage gabor_lobe(const LobeQuery& query) {
 }
 
 MethodEntry gabor_method() {
-    return {{"gabor",
+    MethodEntry entry{{"gabor",
              "Gabor kernels, one per cell of a regular grid, summed in closed form (default: second order, K = 1 per texel)",
              "Yan 2018 §4-5, eq. 16-17",
              {Quantity::brdf},
@@ -536,6 +536,9 @@ MethodEntry gabor_method() {
             gabor_lobe,
             nullptr,
             gabor_point_field};
+    // One kernel grid step along both axes (kernel_grid): rectangular texels are resampled first.
+    entry.info.needs_square_texels = true;
+    return entry;
 }
 
 }  // namespace glintscope

@@ -495,6 +495,8 @@ void build_parents(gabor::Hierarchy& h) {
 GaborSurface::GaborSurface(std::shared_ptr<const BicubicInterpolant> surface, GaborSettings settings)
     : surface_(std::move(surface)), settings_(settings) {
     if (!surface_) throw Error("gabor: GaborSurface needs a heightfield interpolant");
+    // The pipeline resamples rectangular texels for gabor (MethodInfo::needs_square_texels).
+    if (!surface_->square_texels()) throw Error("gabor: GaborSurface needs square texels (make_texels_square)");
     validate(settings_);
     auto hierarchy = std::make_shared<gabor::Hierarchy>();
     hierarchy->kernels_x = surface_->cols() * settings_.kernels_per_texel;
