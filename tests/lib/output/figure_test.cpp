@@ -113,7 +113,7 @@ TEST(FigureCaption, APanelNamesItsSurfaceCentreAndModelAndOmitsWhatDoesNotApply)
     QueryText gabor_text = text;
     gabor_text.emplace_back("option.kernels_per_texel", "1");
     const std::vector<std::string> gabor = panel_caption(compute_lobe("gabor", make_query(gabor_text)));
-    EXPECT_EQ(gabor.front(), "gabor, kirchhoff, K = 1");
+    EXPECT_EQ(gabor.front(), "gabor, kirchhoff, K = 1, order 2");  // the default order, named
     EXPECT_TRUE(mentions(gabor, "surface ripples.exr, centre 12, 10 um")) << join(gabor, " | ");
     EXPECT_TRUE(mentions(gabor, "lambda 500 nm")) << join(gabor, " | ");
 
