@@ -66,14 +66,23 @@ namespace {
 constexpr int kLeafKernels = 8;
 static_assert(kLeafKernels * kLeafKernels == 64, "leaf kernels are bits of a 64-bit mask");
 
+// The float next to a finite f toward +∞ (up) or −∞, by its bits: nextafter is a library call,
+// and the point query rounds a pair of bounds per leaf.
+float float_step(float f, bool up) {
+    if (f == 0.0f) return up ? std::numeric_limits<float>::denorm_min() : -std::numeric_limits<float>::denorm_min();
+    const auto bits = std::bit_cast<std::uint32_t>(f);
+    return std::bit_cast<float>((f > 0.0f) == up ? bits + 1 : bits - 1);
+}
+
+// The nearest float at or below (round_down) or above (round_up) a finite value within float's range.
 float round_down(double value) {
     const float f = static_cast<float>(value);
-    return static_cast<double>(f) > value ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+    return static_cast<double>(f) > value ? float_step(f, false) : f;
 }
 
 float round_up(double value) {
     const float f = static_cast<float>(value);
-    return static_cast<double>(f) < value ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+    return static_cast<double>(f) < value ? float_step(f, true) : f;
 }
 
 gabor::SlopeBox empty_box() {
