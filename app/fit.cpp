@@ -1,5 +1,6 @@
 // glintscope fit ellipsoid NDF.exr -o FIT.json [--image FITTED.exr] [--residual RESIDUAL.exr]
-// [--models ellipsoid,beckmann,ggx]: parametric NDFs fitted to an NDF image (Dong 2015 §8).
+// [--plot FIT.png] [--models ellipsoid,beckmann,ggx]: parametric NDFs fitted to an NDF image
+// (Dong 2015 §8).
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -9,6 +10,8 @@
 #include "glintscope/core/atomic_output.hpp"
 #include "glintscope/output/lobe_output.hpp"
 #include "glintscope/fit/ndf_fit.hpp"
+#include "glintscope/fit/ndf_fit_slices.hpp"
+#include "glintscope/output/fit_plot.hpp"
 
 namespace glintscope::cli {
 namespace {
@@ -19,6 +22,7 @@ struct FitSettings {
     std::string output;
     std::string image;
     std::string residual;
+    std::string plot;
     std::vector<std::string> models{"ellipsoid"};
 };
 
@@ -36,6 +40,7 @@ void run_fit(const FitSettings& settings) {
     check_output_path(settings.output, {"json"}, "-o");
     if (!settings.image.empty()) check_output_path(settings.image, {"exr"}, "--image");
     if (!settings.residual.empty()) check_output_path(settings.residual, {"exr"}, "--residual");
+    if (!settings.plot.empty()) check_output_path(settings.plot, {"png"}, "--plot");
     const LobeImage data = load_lobe_exr(settings.input);
     std::vector<NdfFit> fits;
     for (NdfModelKind kind : kinds) {
@@ -47,6 +52,7 @@ void run_fit(const FitSettings& settings) {
     fitted.metadata["command_line"] = invocation();
     if (!settings.image.empty()) write_lobe_exr(fitted, settings.image, {});
     if (!settings.residual.empty()) write_lobe_exr(residual_image(data, fitted), settings.residual, {});
+    if (!settings.plot.empty()) write_plots(ndf_fit_plots(ndf_fit_slices(data, fits, 401), fits, settings.input), settings.plot);
 }
 
 }  // namespace
@@ -65,6 +71,8 @@ void add_fit_command(CLI::App& app) {
         ->required();
     command->add_option("--image", settings->image, "EXR of the first model's fitted NDF");
     command->add_option("--residual", settings->residual, "EXR of the NDF minus the first model's fit");
+    command->add_option("--plot", settings->plot,
+                        "PNG: the NDF against every fitted model along and across the first fit's principal axes (log D against the polar angle)");
     command->add_option("--models", settings->models, "Models to fit, comma separated: ellipsoid, beckmann, ggx (default ellipsoid)")
         ->delimiter(',');
     command->callback([settings] { run_fit(*settings); });

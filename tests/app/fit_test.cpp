@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <OpenImageIO/imageio.h>
 
 #include "cli_runner.hpp"
 #include "glintscope/output/lobe_output.hpp"
@@ -22,8 +23,8 @@ TEST(FitCommand, RecoversAnEllipsoidAndWritesItsImageAndResidual) {
     const LobeImage ndf = model_ndf_image({NdfModelKind::ellipsoid, truth}, 96);
     write_lobe_exr(ndf, directory.file("ndf.exr"), {});
     const auto result = run_cli({"fit", "ellipsoid", directory.file("ndf.exr"), "-o", directory.file("fit.json"), "--image",
-                                 directory.file("fitted.exr"), "--residual", directory.file("residual.exr"), "--models",
-                                 "ellipsoid,beckmann"});
+                                 directory.file("fitted.exr"), "--residual", directory.file("residual.exr"), "--plot",
+                                 directory.file("fit.png"), "--models", "ellipsoid,beckmann"});
     ASSERT_EQ(result.exit_code, 0) << result.output;
 
     std::ifstream file(directory.file("fit.json"));
@@ -48,6 +49,21 @@ TEST(FitCommand, RecoversAnEllipsoidAndWritesItsImageAndResidual) {
     }
     EXPECT_LT(std::sqrt(fit_error / data_norm), 1e-3);
     EXPECT_EQ(residual_mismatch, 0.0);
+
+    // The fit picture: two plots (along and across the principal axes) stacked, more tall than wide.
+    const auto picture = OIIO::ImageInput::open(directory.file("fit.png"));
+    ASSERT_TRUE(picture);
+    EXPECT_GT(picture->spec().height, picture->spec().width);
+}
+
+TEST(FitCommand, APlotThatIsNotAPngFailsBeforeFitting) {
+    TemporaryDirectory directory;
+    write_lobe_exr(model_ndf_image({NdfModelKind::ggx, {0.2, 0.2, 0, 0, 0}}, 32), directory.file("ndf.exr"), {});
+    const auto result = run_cli(
+        {"fit", "ellipsoid", directory.file("ndf.exr"), "-o", directory.file("fit.json"), "--plot", directory.file("fit.jpg")});
+    EXPECT_EQ(result.exit_code, 1);
+    EXPECT_NE(result.output.find("--plot"), std::string::npos) << result.output;
+    EXPECT_EQ(testing::count_entries(directory.path()), 1);  // nothing written
 }
 
 TEST(FitCommand, UnknownModelIsAOneLineError) {

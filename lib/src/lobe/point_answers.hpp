@@ -30,7 +30,7 @@ struct PointAnswers {
     // f_r at wavelengths of the caller's choice (µm, positive and finite), for a point query that
     // takes any λ; without it only the query's wavelengths can be asked for.
     std::function<std::vector<double>(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& wavelengths_um)>
-        eval_at_wavelengths;
+        eval_at_wavelengths = nullptr;
 };
 
 // The supersampling of the albedo's quadrature of a point query's eval (bsdf.hpp).
