@@ -20,6 +20,14 @@ struct Timed {
     double seconds = 0.0;
 };
 
+// The value a method recorded for one of its settings (e.g. gabor.order when the default was
+// used), or `asked` when it was given or the method records none: rows name what ran.
+int setting_used(const LobeImage& image, const std::string& key, int asked) {
+    if (asked) return asked;
+    const auto found = image.metadata.find(key);
+    return found == image.metadata.end() ? 0 : static_cast<int>(parse_number(found->second));
+}
+
 Timed timed_compute(const std::string& method, const LobeQuery& query) {
     const auto start = std::chrono::steady_clock::now();
     Timed result{compute_lobe(method, query)};
@@ -94,8 +102,10 @@ std::vector<ValidationRow> run_validation(const ValidationPlan& plan, const Prog
                         progress(++done, total,
                                  plan.test_method + ", " + describe_case(centre, model, kernels, order));
                     const std::size_t first = rows.size();
+                    const int kernels_used = setting_used(test.image, "gabor.kernels_per_texel", kernels);
+                    const int order_used = setting_used(test.image, "gabor.order", order);
                     for (const LayerComparison& layer : compare_lobes(test.image, reference.image))
-                        rows.push_back({centre, model, kernels, order, layer, test.seconds, reference.seconds});
+                        rows.push_back({centre, model, kernels_used, order_used, layer, test.seconds, reference.seconds});
                     if (pair) pair(rows[first], test.image, reference.image);
                 }
         }

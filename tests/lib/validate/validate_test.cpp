@@ -32,6 +32,8 @@ TEST(Validate, AFlatMirrorAgreesToTheKernelBlurAndEveryRowIsReported) {
         EXPECT_NEAR(row.comparison.energy_ratio(), 25.0 / (25.0 + 0.0625), 2e-3);
         EXPECT_LT(row.comparison.relative_l2, 0.01);
         EXPECT_EQ(row.comparison.peak_offset_pixels, 0.0);
+        EXPECT_EQ(row.kernels_per_texel, 2);
+        EXPECT_EQ(row.order, 2);  // not asked for: the row names the default that ran
     }
     const nlohmann::json report = nlohmann::json::parse(validation_json(plan, rows, "glintscope validate ..."));
     EXPECT_EQ(report["rows"].size(), rows.size());
