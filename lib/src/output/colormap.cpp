@@ -1,6 +1,8 @@
 // Colour maps and colour-mapped PNG pictures with a legend.
 #include "glintscope/output/colormap.hpp"
 
+#include "drawing.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -119,22 +121,8 @@ ScalarImage at_true_aspect(const ScalarImage& image, double width_um, double hei
 
 namespace {
 
-// The first font OpenImageIO can load; fonts-dejavu-core provides DejaVuSans.
-const std::string& legend_font() {
-    static const std::string font = [] {
-        for (const char* candidate :
-             {"DejaVuSans", "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", "LiberationSans-Regular", "FreeSans"})
-            if (OIIO::ImageBufAlgo::text_size("0", kFontSize, candidate).defined()) return std::string(candidate);
-        return std::string();
-    }();
-    if (font.empty()) throw Error("no font found for legend text (install the fonts-dejavu-core package)");
-    return font;
-}
-
-int text_width(const std::string& text) {
-    const OIIO::ROI size = OIIO::ImageBufAlgo::text_size(text, kFontSize, legend_font());
-    return size.defined() ? size.width() : 0;
-}
+// The legend's text: the pictures' shared font and measure (drawing.hpp).
+int text_width(const std::string& text) { return drawing::text_width(text, kFontSize); }
 
 std::string format_value(double value) {
     char buffer[32];
@@ -236,7 +224,7 @@ void write_colormapped_png(const std::string& path, const ScalarImage& image, co
     OIIO::ImageSpec spec(canvas.width(), canvas.height(), 3, OIIO::TypeDesc::FLOAT);
     spec.attribute("oiio:ColorSpace", "sRGB");
     OIIO::ImageBuf picture(spec, canvas.data());
-    const std::string& font = legend_font();
+    const std::string& font = drawing::font();
     const float black[3] = {0.0f, 0.0f, 0.0f};
     using OIIO::ImageBufAlgo::TextAlignX;
     using OIIO::ImageBufAlgo::TextAlignY;

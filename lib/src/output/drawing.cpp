@@ -19,8 +19,12 @@ const std::string& font() {
 }
 
 int text_width(const std::string& text, int size) {
+    if (text.empty()) return 0;
+    // A text without glyphs measures as an inverted box whose width() overflows an int: take the
+    // extent in 64 bits and count only a real one.
     const OIIO::ROI box = OIIO::ImageBufAlgo::text_size(text, size, font());
-    return box.defined() ? box.width() : 0;
+    const long long width = static_cast<long long>(box.xend) - box.xbegin;
+    return box.defined() && width > 0 && width < (1 << 24) ? static_cast<int>(width) : 0;
 }
 
 OIIO::ImageBuf blank(int width, int height) {
