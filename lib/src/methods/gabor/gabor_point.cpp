@@ -90,10 +90,14 @@ PointAnswers gabor_point_answers(const LobeQuery& query) {
     const GaborSettings settings = gabor_settings(query);
     const gabor::KernelGrid grid = gabor::kernel_grid(query.surface->texel_um(), settings);
     const gabor::CoherenceWindow window(query.footprint, settings.footprint_sigmas);
-    const auto index = std::make_shared<const gabor::SlopeIndex>(
-        gabor::gather_kernels(*query.surface, grid, window, query.footprint.centre_um).arrays, grid);
-    const double area = window.area_um2();
     const DiffractionModel model = query.model;
+    // Where ξ3 does not depend on the directions, each wavelength's ξ3/λ is known now: transform_point's.
+    std::vector<double> prepared;
+    if (!phase_depends_on_outgoing(model))
+        for (const double lambda : query.wavelengths_um) prepared.push_back(xi3(model, {0, 0, 1}, {0, 0, 1}) / lambda);
+    const auto index = std::make_shared<const gabor::SlopeIndex>(
+        gabor::gather_kernels(*query.surface, grid, window, query.footprint.centre_um).arrays, grid, prepared);
+    const double area = window.area_um2();
     const MaterialChoice material = query.material;
     const std::vector<double> wavelengths = query.wavelengths_um;
     PointAnswers answers;

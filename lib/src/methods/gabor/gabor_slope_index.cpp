@@ -25,7 +25,9 @@ inline int SlopeIndex::cell_of(double slope, double origin, double inverse_width
     return t >= cells ? cells - 1 : static_cast<int>(t);
 }
 
-SlopeIndex::SlopeIndex(const KernelArrays& kernels, const KernelGrid& grid) : grid_(grid) {
+SlopeIndex::SlopeIndex(const KernelArrays& kernels, const KernelGrid& grid,
+                       const std::vector<double>& prepared_xi3_over_lambda)
+    : grid_(grid) {
     const std::size_t count = kernels.size();
     if (count > 0) {
         const auto [min_x, max_x] = std::minmax_element(kernels.slope_x.begin(), kernels.slope_x.begin() + count);
@@ -68,6 +70,15 @@ SlopeIndex::SlopeIndex(const KernelArrays& kernels, const KernelGrid& grid) : gr
                                                               kernels_.curvature_yy[k]));
             largest_radius_ = std::max(largest_radius_, b.radius);
         }
+    if (grid_.order == 2)
+        for (const double xi3_over_lambda : prepared_xi3_over_lambda)
+            prepared_.push_back(chirp_factors(kernels_, grid_, xi3_over_lambda));
+}
+
+std::complex<double> SlopeIndex::sum_run(std::size_t begin, std::size_t end, const TransformPoint& point,
+                                         const ChirpFactors* factors) const {
+    return factors ? sum_transforms(kernels_, *factors, begin, end, point)
+                   : sum_transforms(kernels_, begin, end, point, grid_);
 }
 
 std::complex<double> SlopeIndex::sum(const TransformPoint& point) const {
@@ -89,6 +100,9 @@ std::complex<double> SlopeIndex::sum(const TransformPoint& point) const {
     const int j0 = cell_of((-widest - point.vy) / t, origin_y_, inverse_width_y_, cells_y_);
     const int j1 = cell_of((widest - point.vy) / t, origin_y_, inverse_width_y_, cells_y_);
     const double plain_reach = reach_of(0.0);
+    const ChirpFactors* factors = nullptr;
+    for (const ChirpFactors& prepared : prepared_)
+        if (prepared.xi3_over_lambda == t) factors = &prepared;
     std::complex<double> total = 0.0;
     for (int j = j0; j <= j1; ++j) {
         const std::size_t row = static_cast<std::size_t>(j) * cells_x_;
@@ -99,12 +113,12 @@ std::complex<double> SlopeIndex::sum(const TransformPoint& point) const {
             const double reach = chirped ? reach_of(b.radius) : plain_reach;
             if (!slopes_reach(point.vx, point.vy, t, reach, b.x_min, b.x_max, b.y_min, b.y_max)) continue;
             if (starts_[row + i] != run_end) {
-                if (run_end > run_begin) total += sum_transforms(kernels_, run_begin, run_end, point, grid_);
+                if (run_end > run_begin) total += sum_run(run_begin, run_end, point, factors);
                 run_begin = starts_[row + i];
             }
             run_end = starts_[row + i + 1];
         }
-        if (run_end > run_begin) total += sum_transforms(kernels_, run_begin, run_end, point, grid_);
+        if (run_end > run_begin) total += sum_run(run_begin, run_end, point, factors);
     }
     return total;
 }

@@ -15,8 +15,11 @@ namespace glintscope::gabor {
 
 class SlopeIndex {
 public:
-    // Takes a footprint's kernels (gather_kernels), at the grid's order.
-    SlopeIndex(const KernelArrays& kernels, const KernelGrid& grid);
+    // Takes a footprint's kernels (gather_kernels), at the grid's order. At second order, the
+    // chirp factors of each ξ3/λ in `prepared_xi3_over_lambda` are computed once (a model whose ξ3
+    // does not depend on the directions, at the wavelengths it will be asked for).
+    SlopeIndex(const KernelArrays& kernels, const KernelGrid& grid,
+               const std::vector<double>& prepared_xi3_over_lambda = {});
 
     // Σ_k w_k C_k F[g_k](v) (sum_transforms) over every kernel whose box may hold the point's v:
     // the kernels of the other cells contribute exactly 0 to that sum, so this is the sum over
@@ -27,6 +30,9 @@ public:
     const KernelArrays& kernels() const { return kernels_; }
 
 private:
+    // Σ over the kernels [begin, end), with prepared chirp factors when there are some.
+    std::complex<double> sum_run(std::size_t begin, std::size_t end, const TransformPoint& point,
+                                 const ChirpFactors* factors) const;
     // The cell along one axis that holds a slope, clamped to the grid: monotonic in the slope,
     // so the kernels with slopes in [a, b] lie in the cells [cell(a), cell(b)].
     static int cell_of(double slope, double origin, double inverse_width, int cells);
@@ -48,6 +54,7 @@ private:
         double x_min, x_max, y_min, y_max, radius;
     };
     std::vector<CellBounds> bounds_;
+    std::vector<ChirpFactors> prepared_;  // second order, in the kernels' order
     double largest_radius_ = 0.0;
 };
 

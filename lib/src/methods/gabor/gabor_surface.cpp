@@ -617,7 +617,7 @@ struct GaborSurface::Collector {
     // K = 1 reads the samples of the footprint's rows (and one more on each side), a few cache
     // lines per row: those come from outer caches one by one unless asked for ahead of time, a
     // couple of leaf rows ahead so that they arrive while earlier rows are processed.
-    static constexpr int kPrefetchLeafRows = 16;
+    static constexpr int kPrefetchLeafRows = 2;
     void prefetch_samples(const LeafRange& range, int leaf_row) const {
         if (leaf_row > range.y1) return;
         const int c0 = std::max(0, range.x0 * kLeafKernels - 1);

@@ -1,5 +1,6 @@
 // A footprint's kernels sorted by slope (gabor_slope_index.hpp): summing only the cells a
-// direction can reach gives the sum over every kernel, at both orders and for every model, and a
+// direction can reach gives the sum over every kernel, at both orders and for every model (also
+// with second-order factors prepared per wavelength), and a
 // footprint's Bsdf (which evaluates through the index) equals the hierarchy's point query.
 #include <gtest/gtest.h>
 
@@ -51,13 +52,19 @@ TEST(GaborSlopeIndex, ReachingCellsSumToTheSumOverEveryKernel) {
             const gabor::CoherenceWindow window(footprint, settings.footprint_sigmas);
             const gabor::KernelArrays all =
                 gabor::gather_kernels(*isotropic_surface(), grid, window, footprint.centre_um).arrays;
+            const std::vector<double> wavelengths = {0.4, 0.7};
+            // Where ξ3 is fixed (R-OHS), also with second-order factors prepared per wavelength.
+            std::vector<double> prepared;
+            if (!phase_depends_on_outgoing(model))
+                for (const double lambda : wavelengths) prepared.push_back(xi3(model, {0, 0, 1}, {0, 0, 1}) / lambda);
             const gabor::SlopeIndex index(all, grid);
+            const gabor::SlopeIndex prepared_index(all, grid, prepared);
             ASSERT_EQ(index.kernels().size(), all.size());
             // |Σ| ≤ Σ_k w_k |ξ2| e^{...} ≤ Σ w_k max|ξ2|: differences in summation order stay far below it.
             double weights = 0.0;
             for (std::size_t k = 0; k < all.size(); ++k) weights += all.weight[k];
             int reached = 0;
-            for (const double lambda : {0.4, 0.7})
+            for (const double lambda : wavelengths)
                 for (const Vec3 omega_o : test_directions(omega_i)) {
                     const gabor::TransformPoint point = gabor::transform_point(
                         model, gabor::FresnelAtWavelength({}, lambda), omega_i, omega_o, lambda, window.area_um2());
@@ -65,6 +72,8 @@ TEST(GaborSlopeIndex, ReachingCellsSumToTheSumOverEveryKernel) {
                     const std::complex<double> indexed = index.sum(point);
                     EXPECT_LT(std::abs(indexed - every), 1e-12 * 2.0 * weights)
                         << "order " << order << ", model " << static_cast<int>(model) << ", lambda " << lambda;
+                    EXPECT_LT(std::abs(prepared_index.sum(point) - every), 1e-12 * 2.0 * weights)
+                        << "prepared, order " << order << ", model " << static_cast<int>(model) << ", lambda " << lambda;
                     reached += std::abs(every) > 1e-3 * weights;
                 }
             EXPECT_GT(reached, 100) << "the comparisons are of lobes, not of zeros";
