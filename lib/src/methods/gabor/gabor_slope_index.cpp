@@ -70,9 +70,16 @@ SlopeIndex::SlopeIndex(const KernelArrays& kernels, const KernelGrid& grid,
                                                               kernels_.curvature_yy[k]));
             largest_radius_ = std::max(largest_radius_, b.radius);
         }
-    if (grid_.order == 2)
-        for (const double xi3_over_lambda : prepared_xi3_over_lambda)
-            prepared_.push_back(chirp_factors(kernels_, grid_, xi3_over_lambda));
+    if (grid_.order != 2) return;
+    for (const double xi3_over_lambda : prepared_xi3_over_lambda) {
+        prepared_.push_back(chirp_factors(kernels_, grid_, xi3_over_lambda));
+        std::vector<double>& reaches = prepared_cell_reach_.emplace_back(cell_count);
+        for (std::size_t c = 0; c < cell_count; ++c) reaches[c] = cell_reach(bounds_[c].radius, xi3_over_lambda);
+    }
+}
+
+double SlopeIndex::cell_reach(double radius, double t) const {
+    return kReachMargin * (grid_.order == 2 ? chirped_reach(grid_.reach, grid_.chirp_scale, t, radius) : grid_.reach);
 }
 
 std::complex<double> SlopeIndex::sum_run(std::size_t begin, std::size_t end, const TransformPoint& point,
@@ -86,11 +93,7 @@ std::complex<double> SlopeIndex::sum(const TransformPoint& point) const {
     if (!(t > 0.0 && std::isfinite(t))) return sum_transforms(kernels_, 0, kernels_.size(), point, grid_);
     // Kernel k reaches v when |v + t H'_k| ≤ R_k per axis (Yan 2018 eq. 15 and §5), i.e. when
     // H'_k ∈ [(−R_k − v)/t, (R_k − v)/t]; R_k = reach at first order, chirped_reach at second.
-    const bool chirped = grid_.order == 2;
-    const auto reach_of = [&](double radius) {
-        return kReachMargin * (chirped ? chirped_reach(grid_.reach, grid_.chirp_scale, t, radius) : grid_.reach);
-    };
-    const double widest = reach_of(largest_radius_);
+    const double widest = cell_reach(largest_radius_, t);
     if ((widest - point.vx) / t < origin_x_ || (-widest - point.vx) / t > last_x_ ||
         (widest - point.vy) / t < origin_y_ || (-widest - point.vy) / t > last_y_)
         return {0.0, 0.0};
@@ -99,10 +102,14 @@ std::complex<double> SlopeIndex::sum(const TransformPoint& point) const {
     const int i1 = cell_of((widest - point.vx) / t, origin_x_, inverse_width_x_, cells_x_);
     const int j0 = cell_of((-widest - point.vy) / t, origin_y_, inverse_width_y_, cells_y_);
     const int j1 = cell_of((widest - point.vy) / t, origin_y_, inverse_width_y_, cells_y_);
-    const double plain_reach = reach_of(0.0);
     const ChirpFactors* factors = nullptr;
-    for (const ChirpFactors& prepared : prepared_)
-        if (prepared.xi3_over_lambda == t) factors = &prepared;
+    const double* prepared_reach = nullptr;  // each cell's reach when the factors are prepared
+    for (std::size_t p = 0; p < prepared_.size(); ++p)
+        if (prepared_[p].xi3_over_lambda == t) {
+            factors = &prepared_[p];
+            prepared_reach = prepared_cell_reach_[p].data();
+        }
+    const bool chirped = grid_.order == 2;
     std::complex<double> total = 0.0;
     for (int j = j0; j <= j1; ++j) {
         const std::size_t row = static_cast<std::size_t>(j) * cells_x_;
@@ -110,7 +117,7 @@ std::complex<double> SlopeIndex::sum(const TransformPoint& point) const {
         std::size_t run_end = 0;  // [run_begin, run_end): reaching kernels not yet summed
         for (int i = i0; i <= i1; ++i) {
             const CellBounds& b = bounds_[row + i];
-            const double reach = chirped ? reach_of(b.radius) : plain_reach;
+            const double reach = prepared_reach ? prepared_reach[row + i] : chirped ? cell_reach(b.radius, t) : widest;
             if (!slopes_reach(point.vx, point.vy, t, reach, b.x_min, b.x_max, b.y_min, b.y_max)) continue;
             if (starts_[row + i] != run_end) {
                 if (run_end > run_begin) total += sum_run(run_begin, run_end, point, factors);

@@ -33,6 +33,8 @@ private:
     // Σ over the kernels [begin, end), with prepared chirp factors when there are some.
     std::complex<double> sum_run(std::size_t begin, std::size_t end, const TransformPoint& point,
                                  const ChirpFactors* factors) const;
+    // The reach of a cell's kernels at ξ3/λ = t, with the cell tests' margin.
+    double cell_reach(double radius, double t) const;
     // The cell along one axis that holds a slope, clamped to the grid: monotonic in the slope,
     // so the kernels with slopes in [a, b] lie in the cells [cell(a), cell(b)].
     static int cell_of(double slope, double origin, double inverse_width, int cells);
@@ -55,6 +57,7 @@ private:
     };
     std::vector<CellBounds> bounds_;
     std::vector<ChirpFactors> prepared_;  // second order, in the kernels' order
+    std::vector<std::vector<double>> prepared_cell_reach_;  // per prepared ξ3/λ, each cell's widened reach
     double largest_radius_ = 0.0;
 };
 
