@@ -2,6 +2,8 @@
 // and one-line errors with exit code 1 for bad files.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -119,6 +121,19 @@ TEST(InfoCommand, DeclaredRectangularSpacingIsSaidToBeDeclared) {
     const auto bad = run_cli({"info", npy, "--texel", "1x0um"});
     EXPECT_NE(bad.exit_code, 0) << bad.output;
     EXPECT_TRUE(contains(bad.output, "--texel")) << bad.output;
+}
+
+// A builtin is generated at its own spacing: a declared one is refused, not silently ignored.
+TEST(InfoCommand, BuiltinsRefuseADeclaredSpacing) {
+    for (const std::vector<std::string>& args :
+         {std::vector<std::string>{"info", "builtin:grating", "--texel", "2um"},
+          std::vector<std::string>{"lobe", "builtin:grating", "--texel", "2um", "--res", "8", "-o", "unused.exr"}}) {
+        const auto result = run_cli(args);
+        EXPECT_EQ(result.exit_code, 1) << result.output;
+        EXPECT_TRUE(contains(result.output, "builtin:grating is generated, not read from a file")) << result.output;
+        EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+    }
+    EXPECT_EQ(run_cli({"info", "builtin:grating"}).exit_code, 0);
 }
 
 TEST(InfoCommand, BadFilesFailWithOneLineAndExitCodeOne) {

@@ -429,7 +429,17 @@ Provenance read_output_metadata(const std::string& path) {
 
 Heightfield load_heightfield_source(const HeightfieldSource& source) {
     const std::string builtin_prefix = "builtin:";
-    if (source.argument.starts_with(builtin_prefix)) return generate_builtin(source.argument.substr(builtin_prefix.size()));
+    if (source.argument.starts_with(builtin_prefix)) {
+        // A builtin is generated at its own spacing and units: options that say how to read a
+        // file would be silently ignored, so they are refused.
+        const LoadOptions& load = source.load;
+        if (!load.channel.empty() || load.height_unit || load.texel_um || load.texel_y_um || load.height_scale != 1.0 ||
+            load.periodic)
+            throw Error(source.argument + " is generated, not read from a file: the options that say how to read "
+                        "one (texel, channel, height unit, height scale, periodic) do not apply; write it with "
+                        "`glintscope generate` to change its spacing");
+        return generate_builtin(source.argument.substr(builtin_prefix.size()));
+    }
     return load_heightfield(source.argument, source.load);
 }
 
