@@ -310,6 +310,16 @@ LobeImage geometric_lobe(const LobeQuery& query) {
     return image;
 }
 
+// One footprint's BSDF: its NDF table made once and read as the images at supersample 1 read it
+// (Dong 2015 eq. 1, G = 1), h sampled from the table (microfacet_answers), where answering from
+// the images would remake the ω_i-independent table for every new ω_i. Shadowing (Smith's
+// integral or the ellipsoid fit over the table) is answered from the images.
+PointAnswers geometric_point(const LobeQuery& query) {
+    const GeometricSettings settings = read_settings(query);
+    if (settings.shadowing != Shadowing::none) return {};
+    return microfacet_answers({density_table(query, settings), refractive_indices(query), {}}, query.wavelengths_um.size());
+}
+
 // f_r for any footprint from one tree over the field: the point query of the same triangles
 // as the internal table of point-sampled pixels, read at h itself rather than bilinearly.
 // Shadowing needs the footprint's whole NDF (Smith's integral, the ellipsoid fit), and a box's
@@ -352,8 +362,9 @@ MethodEntry geometric_method() {
     entry.info.whole_field = true;
     entry.info.exact_pixels = true;
     entry.compute = geometric_lobe;
+    entry.point = geometric_point;
     entry.point_field = geometric_point_field;
-    entry.bsdf_from_images = true;  // the field evaluates the continuous P-NDF; the images integrate pixels
+    entry.bsdf_from_images = true;  // the field evaluates the continuous P-NDF; a footprint's Bsdf reads its table
     return entry;
 }
 

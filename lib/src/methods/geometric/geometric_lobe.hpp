@@ -17,6 +17,8 @@
 // 1/N in h, an NDF pixel 2/M, and bilinear reading blurs by about one NDF pixel; at the default
 // the blur is a quarter of a lobe pixel), filter_sigma (filtered only), intrinsic_roughness, refinement, tolerance.
 // Metadata: "geometric.ndf", "geometric.shadowing", "geometric.ndf_resolution", "geometric.refinement".
+// Point answers of one footprint (make_bsdf): its NDF table made once, read and sampled as dk's
+// D_K table (normal_density/microfacet_answers.hpp); with shadowing, from the images.
 // Point field: f_r with D the point query of a normal-bounds tree over the (filtered) field at
 // N × ndf_oversampling (the triangles of the table of point-sampled pixels), for any Gaussian or
 // whole-field footprint; shadowing and box footprints: from the images.

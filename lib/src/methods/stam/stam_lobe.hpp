@@ -6,6 +6,7 @@
 // statistics (docs/stam.md).
 #include <complex>
 #include <string>
+#include <vector>
 
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/lobe/query.hpp"
@@ -36,6 +37,17 @@ double window_lobe(const Footprint& footprint, double vx, double vy);
 // Stam 1999 eq. 14–15: S_p(v) = e^{−g} Σ_{m≥1} g^m/m! D_m(v), the spectral density (µm²) of
 // p = e^{−i2π ξ3 H/λ} over a Gaussian random field, at spatial frequency v = ψ̄/λ (µm⁻¹).
 double stam_spectral_density(const GaussianFieldParameters& surface, double g, double vx, double vy);
+
+// The part of that series that depends on g alone (the Poisson weights over the bulk of m, and
+// D_1,m's factors), made once where g is fixed (OHS, R-OHS: ξ3 = 2).
+struct PoissonSeries {
+    int first = 1;                              // the first m
+    std::vector<double> weights;                // P_m = e^{−g} g^m/m!
+    std::vector<double> c1_scale_over_m;        // π T_x T_y/m
+    std::vector<double> minus_quarter_over_m;   // −1/(4m)
+};
+PoissonSeries poisson_series(const GaussianFieldParameters& surface, double g);
+double stam_spectral_density(const GaussianFieldParameters& surface, const PoissonSeries& series, double vx, double vy);
 
 // Φ(v) = ∫ (e^{−iκ b(s)} − 1) e^{−i2π v·s} ds of one CD bump centred at the origin
 // (Stam 1999 eq. 24–25 as amplitudes), κ = 2π ξ3/λ the phase per µm of height.
