@@ -17,72 +17,18 @@
 #include "glintscope/core/units.hpp"
 #include "glintscope/lobe/query_keys.hpp"
 #include "glintscope/render/render_output.hpp"
+#include "glintscope/render/render_request.hpp"
 
 namespace glintscope::cli {
 namespace {
 
 struct RenderCommand {
-    std::string heightfield;
+    RenderRequest request;  // the scene, query and colour options (render_request.hpp)
     std::string output;
     std::string png;
-    std::string method = "gabor";
-    QueryText given;
-    std::string camera;
-    std::string size = "1280x720";
-    std::vector<std::string> lights;
-    std::string light_spectrum = "d65";
-    std::string exposure = "auto";
-    std::string ocio_config;
-    std::string colour_space = "lin_rec709";
     int sweep_frames = 0;  // 0: one image
     double sweep_span_um = 0.0;  // 0: the patch side
-    Scene scene;
-    RenderSettings settings;
 };
-
-// The scene without its query, checked before the heightfield is loaded.
-Scene view_of(const RenderCommand& command) {
-    Scene scene = command.scene;
-    scene.method = command.method;
-    if (!command.camera.empty()) parse_camera(command.camera, scene.camera);
-    parse_image_size(command.size, scene.camera);
-    if (!command.lights.empty()) {
-        scene.lights.clear();
-        for (const std::string& light : command.lights) scene.lights.push_back(parse_light(light));
-    }
-    scene.light_spectrum = parse_illuminant(command.light_spectrum);
-    validate_view(scene, command.settings);
-    return scene;
-}
-
-LobeQuery query_of(const RenderCommand& command) {
-    if (renders_pixel_footprint(command.method))
-        for (const auto& [key, value] : command.given)
-            if (key == "sigma_c" || key == "box")
-                throw Error(flag_name(key) + " sets the coherence footprint, which a " + command.method +
-                            " render does not use: it sees each pixel's footprint on the patch");
-    QueryText given = command.given;
-    given.emplace_back("heightfield", command.heightfield);
-    given.emplace_back("quantity", "brdf");
-    check_query_text(given);
-    return make_query(given);
-}
-
-ColourSettings colour_of(const RenderCommand& command, Illuminant light_spectrum) {
-    ColourSettings colour;
-    colour.config_path = command.ocio_config;
-    colour.output_space = command.colour_space;
-    colour.illuminant = light_spectrum;
-    if (command.exposure != "auto") {
-        try {
-            colour.exposure_ev = parse_number(command.exposure);
-        } catch (const Error&) {
-            throw Error("--exposure must be 'auto' or a number of stops, got '" + command.exposure + "'");
-        }
-    }
-    scene_linear_chromaticities(colour, colour.output_space);  // an unknown or display space fails before the work
-    return colour;
-}
 
 // PATH without its extension, then -NN and the extension: frame k of a sweep of `frames`.
 std::string frame_path(const std::string& path, int k, int frames) {
@@ -121,12 +67,13 @@ void write_sweep_video(const std::string& png, int frames) {
 
 // --light-sweep N: N renders with the lights moved left to right, one EXR and PNG per frame, one
 // exposure for all, a contact sheet and (with ffmpeg) an MP4.
-void run_sweep(const RenderCommand& command, const Scene& scene, const ColourSettings& colour) {
+void run_sweep(const RenderCommand& command, const Scene& scene, const RenderSettings& settings,
+               const ColourSettings& colour) {
     const double span = command.sweep_span_um > 0.0 ? command.sweep_span_um : scene.patch_um;
     std::vector<RenderImage> frames;
     {
         ProgressBar progress("rows of all frames");
-        frames = render_light_sweep(scene, command.sweep_frames, span, command.settings,
+        frames = render_light_sweep(scene, command.sweep_frames, span, settings,
                                     [&](std::size_t done, std::size_t total) { progress.update(done, total, scene.method); });
     }
     for (RenderImage& frame : frames) frame.metadata["command_line"] = invocation();
@@ -147,20 +94,20 @@ void run_sweep(const RenderCommand& command, const Scene& scene, const ColourSet
 void run(const RenderCommand& command) {
     check_output_path(command.output, {"exr"}, "-o");
     if (!command.png.empty()) check_output_path(command.png, {"png"}, "--png");
-    Scene scene = view_of(command);
+    Scene scene = render_view(command.request);
+    const RenderSettings settings = render_settings(command.request);
     if (command.sweep_frames > 0) {  // its frames and outputs checked before the heightfield is read
         if (command.png.empty()) throw Error("--light-sweep needs --png: the frames and their contact sheet are PNGs");
         light_sweep(scene, command.sweep_frames, command.sweep_span_um > 0.0 ? command.sweep_span_um : scene.patch_um);
     }
-    const ColourSettings colour = colour_of(command, scene.light_spectrum);
-    scene.query = query_of(command);
-    validate(scene, command.settings);
-    if (command.sweep_frames > 0) return run_sweep(command, scene, colour);
+    const ColourSettings colour = render_colour(command.request);
+    scene.query = render_query(command.request);
+    validate(scene, settings);
+    if (command.sweep_frames > 0) return run_sweep(command, scene, settings, colour);
     RenderImage image;
     {
         ProgressBar progress("rows");
-        image = render(scene, command.settings,
-                       [&](std::size_t done, std::size_t total) { progress.update(done, total, scene.method); });
+        image = render(scene, settings, [&](std::size_t done, std::size_t total) { progress.update(done, total, scene.method); });
     }
     image.metadata["command_line"] = invocation();
     write_render_exr(image, command.output, colour);
@@ -169,7 +116,7 @@ void run(const RenderCommand& command) {
         std::printf("%s: exposure %.4g EV (%s)\n", command.png.c_str(), exposure.ev, exposure.rule.c_str());
     }
     std::printf("%s: %dx%d, %d spp, %s, %zu wavelength(s)\n", command.output.c_str(), image.width, image.height,
-                command.settings.samples_per_pixel, scene.method.c_str(), image.wavelengths_um.size());
+                settings.samples_per_pixel, scene.method.c_str(), image.wavelengths_um.size());
 }
 
 }  // namespace
@@ -178,28 +125,28 @@ void add_render_command(CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
         "render", "Render a lit patch tiled with the heightfield through a pinhole camera (Yan 2018 Fig. 12)");
     auto command = std::make_shared<RenderCommand>();
-    sub->add_option("heightfield", command->heightfield, "Heightfield file, or builtin:KIND (isotropic, brushed, ...)")
+    sub->add_option("heightfield", command->request.heightfield, "Heightfield file, or builtin:KIND (isotropic, brushed, ...)")
         ->required();
     sub->add_option("-o,--output", command->output,
                     "Output EXR: radiance [W m^-2 sr^-1], Y at one wavelength or linear R, G, B of a spectrum")
         ->required();
     sub->add_option("--png", command->png, "Also write a display PNG (its exposure is printed and recorded)");
-    sub->add_option("--method", command->method, "Method, one with a BSDF per shading point: " + join(bsdf_field_methods()))
+    sub->add_option("--method", command->request.method, "Method, one with a BSDF per shading point: " + join(bsdf_field_methods()))
         ->capture_default_str();
-    add_length_option(*sub, "--patch", command->scene.patch_um, "Side of the square patch (default 5cm)");
-    sub->add_option("--camera", command->camera,
+    add_length_option(*sub, "--patch", command->request.patch_um, "Side of the square patch (default 5cm)");
+    sub->add_option("--camera", command->request.camera,
                     "Camera position and look-at point, lengths (default 0,-7.0711cm,7.0711cm:0,0,0: 45 deg elevation)")
         ->type_name("X,Y,Z:LX,LY,LZ");
-    sub->add_option("--fov", command->scene.camera.vertical_fov_degrees, "Vertical field of view, degrees")
+    sub->add_option("--fov", command->request.fov_degrees, "Vertical field of view, degrees")
         ->capture_default_str();
-    sub->add_option("--size", command->size, "Image size in pixels")->type_name("WxH")->capture_default_str();
-    sub->add_option("--light", command->lights,
+    sub->add_option("--size", command->request.size, "Image size in pixels")->type_name("WxH")->capture_default_str();
+    sub->add_option("--light", command->request.lights,
                     "Point light: position (lengths) and intensity in W/sr, repeatable (default "
                     "0,7.0711cm,7.0711cm:1: opposite the camera)")
         ->type_name("X,Y,Z:I");
-    sub->add_option("--light-spectrum", command->light_spectrum, "Spectrum of the lights, for spectral renders: d65 or e")
+    sub->add_option("--light-spectrum", command->request.light_spectrum, "Spectrum of the lights, for spectral renders: d65 or e")
         ->capture_default_str();
-    sub->add_option("--spp", command->settings.samples_per_pixel,
+    sub->add_option("--spp", command->request.samples_per_pixel,
                     "Shading points per pixel, a square number (n x n on a regular sub-pixel grid)")
         ->capture_default_str();
     sub->add_option("--light-sweep", command->sweep_frames,
@@ -209,13 +156,11 @@ void add_render_command(CLI::App& app) {
         ->check(CLI::Range(2, 256));
     add_length_option(*sub, "--sweep-span", command->sweep_span_um,
                       "How far the lights move during --light-sweep, along the camera's right (default: the patch side)");
-    add_query_flags(*sub, command->given, Quantity::brdf,
-                    {"quantity", "centre", "omega_i", "incident", "incident_xy", "res", "supersample", "memory",
-                     "footprints"});
-    add_method_option_flags(*sub, command->given, Quantity::brdf, bsdf_field_methods());
-    sub->add_option("--exposure", command->exposure, "PNG exposure: auto or EV")->capture_default_str();
-    sub->add_option("--ocio-config", command->ocio_config, "OpenColorIO config (default: $OCIO or built in)");
-    sub->add_option("--colour-space", command->colour_space, "Scene-linear output colour space of a spectral EXR")
+    add_query_flags(*sub, command->request.query, Quantity::brdf, render_excluded_query_keys());
+    add_method_option_flags(*sub, command->request.query, Quantity::brdf, bsdf_field_methods());
+    sub->add_option("--exposure", command->request.exposure, "PNG exposure: auto or EV")->capture_default_str();
+    sub->add_option("--ocio-config", command->request.ocio_config, "OpenColorIO config (default: $OCIO or built in)");
+    sub->add_option("--colour-space", command->request.colour_space, "Scene-linear output colour space of a spectral EXR")
         ->capture_default_str();
     sub->callback([command] { run(*command); });
 }

@@ -2,8 +2,13 @@
 # Reproduces, with our own surfaces, the Gabor paper's Fig. 10 (geometric vs wave optics) and
 # Fig. 11 (Gabor vs FFT), and Dong 2015's Fig. 8-9 NDF comparisons (P-NDF, filtered NDF, D_K on
 # 70 um patches of the brushed surface, with slices across and along the brushing), and Jakob
-# 2014's discrete flakes converging to the smooth model with a glint map, into OUT (default out/).
-# Usage: scripts/reproduce-figures.sh [OUT] [fig10|fig11|dong|discrete ...]
+# 2014's discrete flakes converging to the smooth model with a glint map, and the Gabor paper's
+# Fig. 12 (rendered patches: spectral, 0.4 um and geometric, render cells of batch), into OUT
+# (default out/).
+# Usage: scripts/reproduce-figures.sh [OUT] [fig10|fig11|dong|discrete|patch ...]
+# patch renders 320 x 180 pixels at 4 spp, the central quarter of the paper's view (figures/patch.toml);
+# GLINTSCOPE_PATCH_PAPER=1 renders the paper's whole 1280 x 720 view at 4 spp (far longer:
+# docs/performance.md).
 # Needs a build (scripts/setup.sh) and, for the slice plot, Debian's python3-matplotlib.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,7 +16,7 @@ glintscope=${GLINTSCOPE_BUILD_DIR:-build}/app/glintscope
 out=${1:-out}
 shift || true
 which=("$@")
-[ ${#which[@]} -gt 0 ] || which=(fig10 fig11 dong discrete)
+[ ${#which[@]} -gt 0 ] || which=(fig10 fig11 dong discrete patch)
 mkdir -p "$out"
 
 for figure in "${which[@]}"; do
@@ -42,6 +47,15 @@ for figure in "${which[@]}"; do
           -o "$out/discrete-glints-$flakes.png"
       done
       ;;
-    *) echo "unknown figure '$figure' (fig10, fig11, dong, discrete)" >&2; exit 2 ;;
+    patch)
+      cp figures/patch.toml "$out/"
+      if [ "${GLINTSCOPE_PATCH_PAPER:-0}" = 1 ]; then  # the paper's size and 30 deg view
+        sed -i -e 's/^size = "320x180"$/size = "1280x720"/' -e 's/^fov = 7.66$/fov = 30/' "$out/patch.toml"
+        grep -q '^size = "1280x720"$' "$out/patch.toml" && grep -q '^fov = 30$' "$out/patch.toml" ||
+          { echo "figures/patch.toml no longer has the size and fov lines GLINTSCOPE_PATCH_PAPER rewrites" >&2; exit 1; }
+      fi
+      "$glintscope" batch "$out/patch.toml"
+      ;;
+    *) echo "unknown figure '$figure' (fig10, fig11, dong, discrete, patch)" >&2; exit 2 ;;
   esac
 done

@@ -18,6 +18,8 @@
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/output/lobe_output.hpp"
+#include "glintscope/render/render_output.hpp"
+#include "glintscope/render/render_request.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/core/version.hpp"
 
@@ -51,6 +53,7 @@ std::string panel_hash(const ManifestPanel& panel, std::map<std::string, std::st
     if (!heightfield_hashes.count(heightfield))
         heightfield_hashes[heightfield] = heightfield.starts_with("builtin:") ? heightfield : file_md5(heightfield);
     std::string text = "glintscope " + version() + "\nmethod=" + panel.method + "\n";
+    if (panel.render) text += "kind=render\n";
     for (const auto& [key, value] : panel.query) text += key + "=" + value + "\n";
     text += "heightfield.md5=" + heightfield_hashes[heightfield] + "\n";
     return md5_hex(text.data(), text.size());
@@ -67,17 +70,34 @@ bool up_to_date(const std::string& exr, const std::string& hash) {
     }
 }
 
+std::string panel_name(const Manifest& manifest, const ManifestPanel& panel) {
+    return manifest.row_labels[panel.row] + " / " + manifest.column_labels[panel.column];
+}
+
+// A render cell as `glintscope render KEYS -o EXR --png PNG` runs it: the same request, scene,
+// colour settings and writers; the PNG first, so that an EXR with the hash means both are there.
+PanelReport compute_render_panel(const Manifest& manifest, const ManifestPanel& panel, const std::string& exr,
+                                 const std::string& hash) {
+    const RenderRequest request = render_request(panel.method, panel.query);
+    const ColourSettings colour = render_colour(request);
+    RenderImage image = render(render_scene(request), render_settings(request));
+    image.metadata["batch.hash"] = hash;
+    write_render_png(image, render_picture_path(manifest, panel), colour);
+    write_render_exr(image, exr, colour);
+    return {panel_name(manifest, panel), {}, {}};
+}
+
 // The panel through the one pipeline (as `lobe` runs it), with the notes and warnings to say.
 PanelReport compute_panel(const Manifest& manifest, const ManifestPanel& panel, const std::string& exr,
                           const std::string& hash) {
+    if (panel.render) return compute_render_panel(manifest, panel, exr, hash);
     LobeRun run = run_lobe(panel.method, make_query(panel.query));
     run.image.metadata["batch.hash"] = hash;
     LobeOutputOptions options;
     options.spectral_channels = true;  // so that the panel reads back exactly
     write_lobe_exr(run.image, exr, options);
     write_lobe_json(run.image, exr.substr(0, exr.size() - 4) + ".json", options);
-    return {manifest.row_labels[panel.row] + " / " + manifest.column_labels[panel.column], std::move(run.notes),
-            std::move(run.warnings)};
+    return {panel_name(manifest, panel), std::move(run.notes), std::move(run.warnings)};
 }
 
 // A BRDF panel's albedo per wavelength beside its material's Fresnel reflectance F(θ_i) (a flat
@@ -98,8 +118,25 @@ nlohmann::ordered_json albedo_record(const ManifestPanel& panel, const LobeImage
     return layers;
 }
 
+// A render cell's provenance: its PNG, the exposure and rule it was shown with, and the scene
+// (render.*: patch, camera, field of view, size, lights, spectrum, spp, footprint) it recorded.
+nlohmann::ordered_json render_record(const Manifest& manifest, const ManifestPanel& panel, const DisplayPicture& picture) {
+    nlohmann::ordered_json scene;
+    for (const auto& [key, value] : picture.metadata)
+        if (key.starts_with("render.")) scene[key.substr(7)] = value;
+    const auto value = [&](const std::string& key) {
+        const auto it = picture.metadata.find(key);
+        return it == picture.metadata.end() ? std::string() : it->second;
+    };
+    return {{"png", render_picture_path(manifest, panel)},
+            {"exposure_ev", value("output.exposure_ev")},
+            {"exposure_rule", value("output.exposure_rule")},
+            {"caption", picture.caption},
+            {"scene", scene}};
+}
+
 void write_record(const Manifest& manifest, const std::string& path, const std::vector<LobeImage>& images,
-                  const std::vector<std::string>& caption) {
+                  const std::vector<DisplayPicture>& pictures, const std::vector<std::string>& caption) {
     nlohmann::ordered_json record;
     record["format"] = "glintscope batch";
     record["manifest"] = manifest.path;
@@ -113,21 +150,33 @@ void write_record(const Manifest& manifest, const std::string& path, const std::
         const ManifestPanel& panel = manifest.panels[k];
         nlohmann::ordered_json query;
         for (const auto& [key, value] : panel.query) query[key] = value;
-        panels.push_back({{"row", panel.row},
-                          {"column", panel.column},
-                          {"method", panel.method},
-                          {"query", query},
-                          {"exr", panel_path(manifest, panel)},
-                          {"albedo", albedo_record(panel, images[k])}});
+        nlohmann::ordered_json entry = {{"row", panel.row},
+                                        {"column", panel.column},
+                                        {"kind", panel.render ? "render" : "lobe"},
+                                        {"method", panel.method},
+                                        {"query", query},
+                                        {"exr", panel_path(manifest, panel)}};
+        if (panel.render) entry["render"] = render_record(manifest, panel, pictures[k]);
+        else entry["albedo"] = albedo_record(panel, images[k]);
+        panels.push_back(entry);
     }
     record["panels"] = panels;
     write_text_file(path, record.dump(2) + "\n");
 }
 
 void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchResult& result) {
-    std::vector<LobeImage> images;
-    images.reserve(manifest.panels.size());
-    for (const ManifestPanel& panel : manifest.panels) images.push_back(load_lobe_exr(panel_path(manifest, panel)));
+    const std::size_t count = manifest.panels.size();
+    std::vector<LobeImage> images(count);
+    std::vector<DisplayPicture> pictures(count);
+    for (std::size_t k = 0; k < count; ++k) {
+        const ManifestPanel& panel = manifest.panels[k];
+        if (!panel.render) {
+            images[k] = load_lobe_exr(panel_path(manifest, panel));
+            continue;
+        }
+        pictures[k] = load_display_picture(render_picture_path(manifest, panel));
+        pictures[k].caption = render_caption(pictures[k].metadata);
+    }
     Figure figure;
     figure.title = manifest.title;
     figure.caption = manifest.caption;
@@ -136,13 +185,19 @@ void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchRe
     figure.exposure = manifest.exposure;
     figure.style = manifest.style;
     figure.cells.assign(manifest.row_labels.size(), std::vector<const LobeImage*>(manifest.column_labels.size()));
-    for (std::size_t k = 0; k < manifest.panels.size(); ++k)
-        figure.cells[manifest.panels[k].row][manifest.panels[k].column] = &images[k];
-    // Insets: each row's heightfield with the footprint of its first panel.
+    figure.pictures.assign(manifest.row_labels.size(), std::vector<const DisplayPicture*>(manifest.column_labels.size()));
+    for (std::size_t k = 0; k < count; ++k) {
+        const ManifestPanel& panel = manifest.panels[k];
+        if (panel.render) figure.pictures[panel.row][panel.column] = &pictures[k];
+        else figure.cells[panel.row][panel.column] = &images[k];
+    }
+    // Insets: each row's heightfield with the footprint of its first panel (a render's: its coherence footprint).
     std::vector<LobeQuery> row_queries;
     if (manifest.insets) {
-        for (std::size_t r = 0; r < manifest.row_labels.size(); ++r)
-            row_queries.push_back(make_query(manifest.panels[r * manifest.column_labels.size()].query));
+        for (std::size_t r = 0; r < manifest.row_labels.size(); ++r) {
+            const ManifestPanel& first = manifest.panels[r * manifest.column_labels.size()];
+            row_queries.push_back(first.render ? render_query(render_request(first.method, first.query)) : make_query(first.query));
+        }
         for (const LobeQuery& query : row_queries) figure.insets.push_back({query.field.get(), query.footprint});
     }
     result.figure_path = figure_path(manifest).string();
@@ -150,11 +205,16 @@ void assemble(const Manifest& manifest, const LobeOutputOptions& output, BatchRe
     figure_output.colour.log_scale = figure_output.colour.log_scale || manifest.log_scale;
     const FigureLayout layout = write_figure(figure, result.figure_path, figure_output);
     result.record_path = result.figure_path.substr(0, result.figure_path.size() - 4) + ".json";
-    write_record(manifest, result.record_path, images, layout.caption);
+    write_record(manifest, result.record_path, images, pictures, layout.caption);
     result.assembled = true;
 }
 
 }  // namespace
+
+std::string render_picture_path(const Manifest& manifest, const ManifestPanel& panel) {
+    const std::string exr = panel_path(manifest, panel);
+    return exr.substr(0, exr.size() - 4) + ".png";
+}
 
 std::string panel_path(const Manifest& manifest, const ManifestPanel& panel) {
     const fs::path figure = figure_path(manifest);
@@ -184,7 +244,9 @@ BatchResult run_batch(const Manifest& manifest, const BatchOptions& options, con
         if (k % options.shard_count != options.shard_index) continue;
         const ManifestPanel& panel = manifest.panels[k];
         const std::string hash = panel_hash(panel, heightfield_hashes);
-        if (!options.force && up_to_date(panel_path(manifest, panel), hash))
+        const bool written = up_to_date(panel_path(manifest, panel), hash) &&
+                             (!panel.render || fs::exists(render_picture_path(manifest, panel)));
+        if (!options.force && written)
             ++result.up_to_date;
         else
             to_compute.emplace_back(&panel, hash);
@@ -210,7 +272,7 @@ BatchResult run_batch(const Manifest& manifest, const BatchOptions& options, con
             std::lock_guard lock(mutex);
             if (progress)
                 progress(++done, to_compute.size(),
-                         manifest.row_labels[panel->row] + " / " + manifest.column_labels[panel->column]);
+                         panel_name(manifest, *panel));
         }
     };
     std::vector<std::thread> workers;

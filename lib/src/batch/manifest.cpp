@@ -8,6 +8,7 @@
 #include "glintscope/core/error.hpp"
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "glintscope/render/render_request.hpp"
 
 namespace glintscope {
 namespace {
@@ -20,7 +21,7 @@ namespace {
 }
 
 // A value as query-key text: strings as they are, numbers in shortest form, arrays joined by
-// commas ([20, 0] → "20,0").
+// commas ([20, 0] → "20,0"); an array of lights (each "X,Y,Z:I") joined by ';'.
 std::string value_text(const std::string& path, const std::string& key, const toml::node& node) {
     if (const auto* text = node.as_string()) return text->get();
     if (const auto* integer = node.as_integer()) return std::to_string(integer->get());
@@ -32,7 +33,7 @@ std::string value_text(const std::string& path, const std::string& key, const to
             if (element.is_array() || element.is_table()) fail(path, element.source(), key, "nested arrays or tables are not values");
             parts.push_back(value_text(path, key, element));
         }
-        return join(parts, ",");
+        return join(parts, key == "light" ? ";" : ",");
     }
     fail(path, node.source(), key, "expected a string, a number or an array of them, got a table");
 }
@@ -57,6 +58,7 @@ bool is_method_option(const std::string& key) {
 struct Entry {
     std::string label;
     std::string method;
+    std::string kind;  // "lobe", "render" or unset
     QueryText query;
     std::vector<toml::source_region> value_where;  // where each query value is written
     toml::source_region where;
@@ -78,19 +80,23 @@ Entry read_entry(const std::string& path, const toml::table& table, bool labelle
         } else if (key == "method") {
             if (!node.is_string()) fail(path, node.source(), key, "expected a string");
             entry.method = node.as_string()->get();
+        } else if (key == "kind") {
+            if (!node.is_string() || (node.as_string()->get() != "lobe" && node.as_string()->get() != "render"))
+                fail(path, node.source(), key, "expected \"lobe\" or \"render\"");
+            entry.kind = node.as_string()->get();
         } else if (key == "option" && node.is_table()) {
             for (const auto& [option, value] : *node.as_table()) add_value(entry, path, "option." + std::string(option.str()), value);
-        } else if (is_query_key(key)) {
+        } else if (is_query_key(key) || is_render_key(key)) {
             add_value(entry, path, key, node);
         } else if (is_method_option(key)) {
             add_value(entry, path, "option." + key, node);
         } else {
             fail(path, node.source(), key, std::string("unknown key (") + (labelled ? "label, " : "") +
-                                               "method, a method option or a query key: " + [] {
+                                               "kind, method, a method option, a query key: " + [] {
                                                    std::vector<std::string> names;
                                                    for (const QueryKey& known : query_keys()) names.push_back(known.name);
                                                    return join(names);
-                                               }() + ")");
+                                               }() + ", or a render key: " + join(render_keys()) + ")");
         }
     }
     return entry;
@@ -167,6 +173,33 @@ bool boolean_value(const std::string& path, const toml::table& root, const std::
     return node->as_boolean()->get();
 }
 
+// A render key's value in the Patch scene's defaults, as the render command would check it.
+void check_render_value(const std::string& key, const std::string& value) {
+    RenderRequest request;
+    set_render_key(request, key, value);
+    render_view(request);
+    render_colour(request);
+}
+
+// The merged render cell: its keys, scene and colour as the render command checks them before
+// loading the heightfield.
+void check_render_cell(const ManifestPanel& panel) {
+    const RenderRequest request = render_request(panel.method, panel.query);
+    render_view(request);
+    render_colour(request);
+    render_query_text(request);
+}
+
+// The merged lobe cell: its query, a method that answers its quantity, and no render key.
+void check_lobe_cell(const ManifestPanel& panel) {
+    for (const auto& [key, value] : panel.query)
+        if (is_render_key(key)) throw Error("key '" + key + "' is a render option: set kind = \"render\" for a render cell");
+    const LobeQuery query = check_query_text(panel.query);
+    const MethodInfo method = lobe_method(panel.method);
+    if (!method.answers(query.quantity))
+        throw Error("method '" + panel.method + "' does not compute " + to_string(query.quantity));
+}
+
 // Each value on its own, at the line it is written on ([defaults] included): its syntax and
 // range, a material's name, a heightfield's existence. What only the merged panel can tell (keys
 // that exclude each other, a method that does not answer the quantity) is named by cell.
@@ -176,6 +209,7 @@ void check_values(const std::string& path, const Entry& entry, const std::string
         try {
             check_query_value(key, value);
             if (key == "heightfield") check_heightfield(value, base_dir);
+            if (is_render_key(key)) check_render_value(key, value);
         } catch (const Error& e) {
             fail(path, entry.value_where[k], key, e.what());
         }
@@ -222,29 +256,38 @@ Manifest load_manifest(const std::string& path) {
     for (const Entry& column : columns) manifest.column_labels.push_back(column.label);
     for (std::size_t r = 0; r < rows.size(); ++r)
         for (std::size_t c = 0; c < columns.size(); ++c) {
-            ManifestPanel panel{r, c, "fft", merge_query_text(merge_query_text(defaults.query, rows[r].query), columns[c].query)};
-            for (const Entry* entry : std::initializer_list<const Entry*>{&defaults, &rows[r], &columns[c]})
+            ManifestPanel panel{r, c, "", merge_query_text(merge_query_text(defaults.query, rows[r].query), columns[c].query)};
+            for (const Entry* entry : std::initializer_list<const Entry*>{&defaults, &rows[r], &columns[c]}) {
                 if (!entry->method.empty()) panel.method = entry->method;
+                if (!entry->kind.empty()) panel.render = entry->kind == "render";
+            }
+            if (panel.method.empty()) panel.method = panel.render ? RenderRequest{}.method : "fft";  // each command's default
             const toml::source_region& where = columns[c].where;
             const std::string cell = "row " + std::to_string(r + 1) + " ('" + rows[r].label + "'), column " +
                                      std::to_string(c + 1) + " ('" + columns[c].label + "'): ";
             try {
-                const LobeQuery query = check_query_text(panel.query);
-                const MethodInfo method = lobe_method(panel.method);
-                if (!method.answers(query.quantity))
-                    throw Error("method '" + panel.method + "' does not compute " + to_string(query.quantity));
-                check_heightfield(query.source.argument, base_dir);
+                if (panel.render) check_render_cell(panel);
+                else check_lobe_cell(panel);
+                const std::string* heightfield = nullptr;
+                for (const auto& [key, value] : panel.query)
+                    if (key == "heightfield") heightfield = &value;
+                if (!heightfield) throw Error("no heightfield");
+                check_heightfield(*heightfield, base_dir);
             } catch (const Error& e) {
                 fail(path, where, "", cell + e.what());
             }
             resolve_paths(panel.query, base_dir);
             manifest.panels.push_back(std::move(panel));
         }
-    // One figure, one panel size: a grid of mixed resolutions cannot be laid out.
-    const int resolution = check_query_text(manifest.panels.front().query).resolution;
-    for (const ManifestPanel& panel : manifest.panels)
-        if (check_query_text(panel.query).resolution != resolution)
-            fail(path, root.source(), "res", "every panel of a figure needs the same resolution");
+    // One figure, one lobe panel size: a grid of mixed resolutions cannot be laid out (renders are
+    // drawn at their own size and aspect).
+    int resolution = 0;
+    for (const ManifestPanel& panel : manifest.panels) {
+        if (panel.render) continue;
+        const int own = check_query_text(panel.query).resolution;
+        if (resolution && own != resolution) fail(path, root.source(), "res", "every panel of a figure needs the same resolution");
+        resolution = own;
+    }
     return manifest;
 }
 

@@ -18,6 +18,7 @@
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/lobe/compare.hpp"
 #include "output/drawing.hpp"
+#include "output/image_files.hpp"
 
 namespace glintscope {
 namespace {
@@ -309,13 +310,13 @@ struct PanelStyle {
 };
 
 // The caption lines every non-empty cell has, removed from the cells (in the first cell's order).
-std::vector<std::string> shared_lines(const std::vector<std::vector<const LobeImage*>>& cells,
+std::vector<std::string> shared_lines(const std::vector<std::vector<bool>>& present,
                                       std::vector<std::vector<std::vector<std::string>>>& lines) {
     std::vector<std::string> common;
     bool first = true;
-    for (std::size_t r = 0; r < cells.size(); ++r)
-        for (std::size_t c = 0; c < cells[r].size(); ++c) {
-            if (!cells[r][c]) continue;
+    for (std::size_t r = 0; r < present.size(); ++r)
+        for (std::size_t c = 0; c < present[r].size(); ++c) {
+            if (!present[r][c]) continue;
             if (first) common = lines[r][c];
             std::erase_if(common, [&](const std::string& line) {
                 return std::find(lines[r][c].begin(), lines[r][c].end(), line) == lines[r][c].end();
@@ -350,6 +351,27 @@ OIIO::ImageBuf panel(const LobeImage& lobe, const LobeOutputOptions& options, co
         text(picture, kMargin, kMargin + size + kMargin + int(k) * line_height, lines[k], kBlack,
              OIIO::ImageBufAlgo::TextAlignX::Left, style.font);
     return picture;
+}
+
+// A picture at picture_zoom, as it is (each display pixel copied, zoomed by repetition), and
+// `lines` of caption below.
+OIIO::ImageBuf picture_panel(const DisplayPicture& picture, const std::vector<std::string>& lines, int font) {
+    const int zoom = picture_zoom(picture.width, picture.height);
+    const int shown_width = picture.width * zoom, shown_height = picture.height * zoom;
+    int width = kMargin + shown_width + kMargin;
+    for (const std::string& line : lines) width = std::max(width, 2 * kMargin + text_width(line, font));
+    const int line_height = font + 5;
+    OIIO::ImageBuf panel = blank(width, kMargin + shown_height + kMargin + int(lines.size()) * line_height + kMargin);
+    for (int y = 0; y < shown_height; ++y)
+        for (int x = 0; x < shown_width; ++x) {
+            const std::uint8_t* rgb = &picture.rgb[(std::size_t(y / zoom) * picture.width + x / zoom) * 3];
+            const Colour colour{rgb[0] / 255.0f, rgb[1] / 255.0f, rgb[2] / 255.0f};
+            panel.setpixel(kMargin + x, kMargin + y, colour.data(), 3);
+        }
+    for (std::size_t k = 0; k < lines.size(); ++k)
+        text(panel, kMargin, kMargin + shown_height + kMargin + int(k) * line_height, lines[k], kBlack,
+             OIIO::ImageBufAlgo::TextAlignX::Left, font);
+    return panel;
 }
 
 DisplayExposure exposure_of(const LobeImage& lobe, const ColourSettings& settings) {
@@ -563,6 +585,25 @@ DisplayExposure shared_exposure(const std::vector<const LobeImage*>& images, con
     return brightest;
 }
 
+DisplayPicture load_display_picture(const std::string& path) {
+    DisplayPicture picture;
+    const OIIO::ImageSpec spec = read_image_file(path, "picture", 3, picture.rgb);
+    picture.width = spec.width;
+    picture.height = spec.height;
+    // Every "glintscope:" attribute, the output's own (exposure, wavelengths) included.
+    for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
+        const std::string name = attribute.name().string();
+        if (name.starts_with(attribute_prefix) && attribute.type() == OIIO::TypeDesc::STRING)
+            picture.metadata[name.substr(attribute_prefix.size())] = attribute.get_string();
+    }
+    return picture;
+}
+
+int picture_zoom(int width, int height) {
+    const int side = std::max(1, std::max(width, height));
+    return std::max(1, kMinPanel / side);
+}
+
 void write_lobe_picture(const LobeImage& lobe, const std::string& path, const LobeOutputOptions& options) {
     if (file_extension(path) != "png") throw Error("cannot write '" + path + "': a PNG file name must end in .png");
     const DisplayExposure exposure = exposure_of(lobe, options.colour);
@@ -576,17 +617,29 @@ void write_lobe_picture(const LobeImage& lobe, const std::string& path, const Lo
 FigureLayout write_figure(const Figure& figure, const std::string& path, const LobeOutputOptions& options) {
     if (figure.cells.empty() || figure.cells.front().empty()) throw Error("cannot write '" + path + "': the figure has no panels");
     const std::size_t columns = figure.cells.front().size();
+    if (!figure.pictures.empty() && figure.pictures.size() != figure.cells.size())
+        throw Error("cannot write '" + path + "': the figure's pictures and lobes differ in rows");
+    const auto picture_at = [&](std::size_t r, std::size_t c) -> const DisplayPicture* {
+        return figure.pictures.empty() ? nullptr : figure.pictures[r][c];
+    };
     int resolution = 0;
-    for (const auto& row : figure.cells) {
-        if (row.size() != columns) throw Error("cannot write '" + path + "': the figure's rows differ in length");
-        for (const LobeImage* image : row)
+    bool any_picture = false;
+    for (std::size_t r = 0; r < figure.cells.size(); ++r) {
+        const auto& row = figure.cells[r];
+        if (row.size() != columns || (!figure.pictures.empty() && figure.pictures[r].size() != columns))
+            throw Error("cannot write '" + path + "': the figure's rows differ in length");
+        for (std::size_t c = 0; c < columns; ++c) {
+            const LobeImage* image = row[c];
+            if (image && picture_at(r, c)) throw Error("cannot write '" + path + "': a cell holds both a lobe and a picture");
+            any_picture = any_picture || picture_at(r, c);
             if (image) {
                 if (resolution && image->resolution != resolution)
                     throw Error("cannot write '" + path + "': the panels differ in resolution");
                 resolution = image->resolution;
             }
+        }
     }
-    if (!resolution) throw Error("cannot write '" + path + "': every cell of the figure is empty");
+    if (!resolution && !any_picture) throw Error("cannot write '" + path + "': every cell of the figure is empty");
     if (figure.style == FigureStyle::paper && figure.exposure == SharedExposure::per_panel)
         throw Error("cannot write '" + path + "': a paper figure has one colour bar per row, which needs a shared exposure "
                     "(per row or for the whole figure), not one per panel");
@@ -630,11 +683,15 @@ FigureLayout write_figure(const Figure& figure, const std::string& path, const L
     const bool paper = figure.style == FigureStyle::paper;
     const int font = paper ? 20 : kFont;
     std::vector<std::vector<std::vector<std::string>>> cell_lines(figure.cells.size(), std::vector<std::vector<std::string>>(columns));
+    std::vector<std::vector<bool>> present(figure.cells.size(), std::vector<bool>(columns));
     for (std::size_t r = 0; r < figure.cells.size(); ++r)
-        for (std::size_t c = 0; c < columns; ++c)
+        for (std::size_t c = 0; c < columns; ++c) {
             if (figure.cells[r][c]) cell_lines[r][c] = panel_caption(*figure.cells[r][c]);
+            if (picture_at(r, c)) cell_lines[r][c] = picture_at(r, c)->caption;
+            present[r][c] = figure.cells[r][c] || picture_at(r, c);
+        }
     std::vector<std::string> common;
-    if (paper) common = shared_lines(figure.cells, cell_lines);
+    if (paper) common = shared_lines(present, cell_lines);
 
     // Panels: each cell drawn with the caption lines its own (λ, angles, footprint).
     std::vector<std::vector<OIIO::ImageBuf>> panels(figure.cells.size());
@@ -644,7 +701,9 @@ FigureLayout write_figure(const Figure& figure, const std::string& path, const L
             const LobeImage* image = figure.cells[r][c];
             // In a paper figure a difference keeps its own bar (its scale is its own); the others share the row's.
             const PanelStyle style{font, !paper || (image && is_signed(*image)), figure.view};
-            panels[r].push_back(image ? panel(*image, options, exposures[r][c], cell_lines[r][c], style) : blank(1, 1));
+            panels[r].push_back(image              ? panel(*image, options, exposures[r][c], cell_lines[r][c], style)
+                                : picture_at(r, c) ? picture_panel(*picture_at(r, c), cell_lines[r][c], font)
+                                                   : blank(1, 1));
             cell_width = std::max(cell_width, panels[r].back().spec().width);
             cell_height = std::max(cell_height, panels[r].back().spec().height);
         }
@@ -680,7 +739,9 @@ FigureLayout write_figure(const Figure& figure, const std::string& path, const L
     bool differences = false;
     for (const auto& row : figure.cells)
         for (const LobeImage* image : row) differences = differences || (image && is_signed(*image));
-    const std::string rules = differences ? rule + ", differences each on their own scale symmetric about 0" : rule;
+    std::string rules = differences ? rule + ", differences each on their own scale symmetric about 0" : rule;
+    const std::string picture_rule = "renders each at their own aspect and exposure (under each)";
+    if (any_picture) rules = resolution ? rules + "; " + picture_rule : picture_rule;
     std::vector<std::string> caption = {figure.caption.empty() ? rules : figure.caption + "; " + rules};
     if (!figure.view_note.empty()) caption.push_back(figure.view_note);
     caption.insert(caption.end(), common.begin(), common.end());
@@ -699,8 +760,9 @@ FigureLayout write_figure(const Figure& figure, const std::string& path, const L
         text(canvas, label_width + inset_width + int(c) * cell_width + cell_width / 2, title_height + kMargin / 2,
              figure.column_labels[c], kBlack, OIIO::ImageBufAlgo::TextAlignX::Center, font);
     FigureLayout layout{width, height, std::vector<std::vector<PixelSquare>>(figure.cells.size()),
+                        std::vector<std::vector<PixelRect>>(figure.cells.size(), std::vector<PixelRect>(columns)),
                         whole_or(figure.view, resolution), {}, caption};
-    const int size = panel_size(resolution);
+    const int size = resolution ? panel_size(resolution) : 0;
     for (std::size_t r = 0; r < figure.cells.size(); ++r) {
         const int y = title_height + header_height + int(r) * cell_height;
         if (r < figure.row_labels.size())
@@ -709,8 +771,12 @@ FigureLayout write_figure(const Figure& figure, const std::string& path, const L
         for (std::size_t c = 0; c < columns; ++c) {
             const int x = label_width + inset_width + int(c) * cell_width;
             const LobeImage* image = figure.cells[r][c];
-            if (image) paste(canvas, panels[r][c], x, y);
+            if (image || picture_at(r, c)) paste(canvas, panels[r][c], x, y);
             layout.disks[r].push_back({x + kMargin, y + kMargin, size});  // panel(): the disk's place
+            if (const DisplayPicture* picture = picture_at(r, c)) {  // picture_panel(): the picture's place
+                const int zoom = picture_zoom(picture->width, picture->height);
+                layout.pictures[r][c] = {x + kMargin, y + kMargin, picture->width * zoom, picture->height * zoom};
+            }
             if (image && !spectral(*image) && (!paper || is_signed(*image)))
                 layout.colour_bars.push_back({x + kMargin + size + kMargin, y + kMargin, kBarWidth, size});
         }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/text_format.hpp"
@@ -128,17 +129,37 @@ DisplayExposure write_sweep_pngs(const std::vector<RenderImage>& frames, const s
     return exposure;
 }
 
+std::vector<std::string> render_caption(const Provenance& metadata) {
+    const auto value = [&](const std::string& key) {
+        const auto it = metadata.find(key);
+        return it == metadata.end() ? std::string() : it->second;
+    };
+    std::vector<std::string> first = {value("method").empty() ? "?" : value("method")};
+    if (!value("method").empty() && !renders_pixel_footprint(value("method")) && !value("query.model").empty())
+        first.push_back(value("query.model"));
+    if (!value("query.material").empty() && value("query.material") != "none") first.push_back(value("query.material"));
+    std::vector<double> nm;
+    for (const std::string& um : split(value("output.wavelengths_um"), ',')) nm.push_back(parse_number(um) * 1e3);
+    const std::string wavelengths = nm.empty()       ? "lambda ?"
+                                    : nm.size() == 1 ? "lambda " + shortest_text(nm[0]) + " nm"
+                                                     : "lambda " + shortest_text(std::round(nm.front())) + "-" +
+                                                           shortest_text(std::round(nm.back())) + " nm, " +
+                                                           std::to_string(nm.size()) + " bins";
+    const std::string rule = value("output.exposure_rule");
+    char ev[32] = "?";
+    if (!value("output.exposure_ev").empty()) std::snprintf(ev, sizeof ev, "%.2f", parse_number(value("output.exposure_ev")));
+    const std::string exposure = "exposure " + std::string(ev) + " EV" +
+                                 (rule.starts_with("auto") ? " (auto)" : rule.empty() ? "" : " (given)");
+    return {join(first, ", "), wavelengths, value("render.size") + ", " + value("render.spp") + " spp, " + exposure};
+}
+
 RenderExr load_render_exr(const std::string& path) {
-    auto input = OIIO::ImageInput::open(path);
-    if (!input) throw Error("cannot read render '" + path + "': " + one_line_message(OIIO::geterror()));
-    const OIIO::ImageSpec& spec = input->spec();
+    std::vector<float> interleaved;
+    const OIIO::ImageSpec spec = read_image_file(path, "render", 0, interleaved);
     RenderExr exr;
     exr.width = spec.width;
     exr.height = spec.height;
     exr.channels = spec.channelnames;
-    std::vector<float> interleaved(std::size_t(spec.width) * spec.height * spec.nchannels);
-    if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, interleaved.data()))
-        throw Error("cannot read render '" + path + "': " + one_line_message(input->geterror()));
     const std::size_t pixels = std::size_t(spec.width) * spec.height;
     exr.values.resize(interleaved.size());
     for (std::size_t i = 0; i < pixels; ++i)

@@ -14,9 +14,12 @@
 #include "cli_runner.hpp"
 #include "glintscope/batch/batch.hpp"
 #include "glintscope/core/error.hpp"
+#include "glintscope/core/geometry.hpp"
 #include "glintscope/io/heightfield_io.hpp"
 #include "glintscope/lobe/query_keys.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
+#include "glintscope/render/render_output.hpp"
+#include "glintscope/render/render_request.hpp"
 
 namespace glintscope {
 namespace {
@@ -222,9 +225,14 @@ TEST(Batch, EveryManifestUnderFiguresLoadsAndPlans) {
         ++manifests;
         const Manifest manifest = load_manifest(entry.path().string());
         EXPECT_FALSE(manifest.panels.empty()) << entry.path();
-        for (const ManifestPanel& panel : manifest.panels)
-            EXPECT_NO_THROW(plan_lobe(panel.method, make_query(panel.query)))
-                << entry.path() << ": " << manifest.row_labels[panel.row] << " / " << manifest.column_labels[panel.column];
+        for (const ManifestPanel& panel : manifest.panels) {
+            if (panel.render)  // the scene validated with its heightfield, the method planned (render.hpp validate)
+                EXPECT_NO_THROW(render_scene(render_request(panel.method, panel.query)))
+                    << entry.path() << ": " << manifest.row_labels[panel.row] << " / " << manifest.column_labels[panel.column];
+            else
+                EXPECT_NO_THROW(plan_lobe(panel.method, make_query(panel.query)))
+                    << entry.path() << ": " << manifest.row_labels[panel.row] << " / " << manifest.column_labels[panel.column];
+        }
     }
     EXPECT_GE(manifests, 4);
 }
@@ -247,6 +255,141 @@ TEST(Figure, LabelsAreDrawnWhereAndAsWideAsTheTextAlone) {
     const OIIO::ROI text = OIIO::ImageBufAlgo::text_size("A column label", 14, "DejaVuSans");
     EXPECT_NEAR(changed.width(), text.width(), 3);
     EXPECT_LT(changed.ybegin, 60);  // in the header, above the panel
+}
+
+}  // namespace
+}  // namespace glintscope
+
+namespace glintscope {
+namespace {
+
+// A small periodic field (16 um tiles) and a 1 x 2 figure of render cells over it: the light
+// opposite the camera, whose mirror point is the patch's centre, seen at 2 degrees.
+std::string render_manifest(const TemporaryDirectory& directory) {
+    Heightfield field = make_heightfield(32, 32, 0.5);
+    for (int r = 0; r < 32; ++r)
+        for (int c = 0; c < 32; ++c)
+            field.at(r, c) = float(0.15 * std::sin(2.0 * pi * c / 32.0) * std::cos(4.0 * pi * r / 32.0));
+    save_heightfield(directory.file("tile.exr"), field);
+    const std::string manifest = directory.file("renders.toml");
+    write_file(manifest, R"(title = "Render cells"
+output = "renders.png"
+[defaults]
+kind = "render"
+heightfield = "tile.exr"
+periodic = "yes"
+size = "24x14"
+fov = 2
+spp = 1
+light = ["0,7cm,7cm:1", "1mm,7cm,7.1cm:0.5"]
+[[row]]
+label = "tile"
+[[column]]
+label = "0.5 um"
+method = "gabor"
+lambda = "0.5um"
+sigma_c = "4um"
+[[column]]
+label = "spectral"
+method = "gabor"
+spectral = 3
+sigma_c = "4um"
+exposure = 1.5
+)");
+    return manifest;
+}
+
+std::vector<std::uint8_t> png_pixels(const std::string& path) {
+    auto input = OIIO::ImageInput::open(path);
+    EXPECT_TRUE(input) << path;
+    if (!input) return {};
+    std::vector<std::uint8_t> pixels(std::size_t(input->spec().width) * input->spec().height * 3);
+    input->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data());
+    return pixels;
+}
+
+// A render cell is `glintscope render` of its keys: the same EXR values and PNG pixels, bit for
+// bit, for one wavelength and a spectrum with a given exposure; the record names its scene and
+// exposure, and a rerun computes nothing.
+TEST(BatchRender, ARenderCellIsTheRenderCommandsOutputForTheSameOptions) {
+    TemporaryDirectory directory;
+    const Manifest manifest = load_manifest(render_manifest(directory));
+    ASSERT_EQ(manifest.panels.size(), 2u);
+    EXPECT_TRUE(manifest.panels[0].render);
+    const BatchResult result = run_batch(manifest, {}, {});
+    ASSERT_TRUE(result.assembled);
+    const std::vector<std::vector<std::string>> flags = {{"--lambda", "0.5um"}, {"--spectral", "3", "--exposure", "1.5"}};
+    for (std::size_t k = 0; k < 2; ++k) {
+        const std::string exr = directory.file("cli" + std::to_string(k) + ".exr"), png = directory.file("cli" + std::to_string(k) + ".png");
+        std::vector<std::string> arguments = {"render", directory.file("tile.exr"), "--periodic", "--size", "24x14",
+                                              "--fov", "2", "--spp", "1", "--light", "0,7cm,7cm:1", "--light",
+                                              "1mm,7cm,7.1cm:0.5", "--sigma-c", "4um", "-o", exr, "--png", png};
+        arguments.insert(arguments.end(), flags[k].begin(), flags[k].end());
+        const auto cli = testing::run_cli(arguments);
+        ASSERT_EQ(cli.exit_code, 0) << cli.output;
+        const RenderExr expected = load_render_exr(exr), cell = load_render_exr(panel_path(manifest, manifest.panels[k]));
+        EXPECT_EQ(cell.channels, expected.channels);
+        EXPECT_EQ(cell.values, expected.values);
+        EXPECT_GT(*std::max_element(expected.values.begin(), expected.values.end()), 0.0f);
+        EXPECT_EQ(png_pixels(render_picture_path(manifest, manifest.panels[k])), png_pixels(png));
+    }
+    std::ifstream record_stream(result.record_path);
+    const nlohmann::json record = nlohmann::json::parse(record_stream);
+    const nlohmann::json& spectral = record["panels"][1];
+    EXPECT_EQ(spectral["kind"], "render");
+    EXPECT_EQ(spectral["render"]["exposure_ev"], "1.5");
+    EXPECT_EQ(spectral["render"]["scene"]["size"], "24x14");
+    EXPECT_EQ(spectral["render"]["scene"]["lights_um_w_per_sr"], "0,70000,70000:1;1000,70000,71000:0.5");
+    EXPECT_EQ(spectral["query"]["spectral"], "3");
+    EXPECT_EQ(run_batch(manifest, {}, {}).computed, 0u);
+}
+
+// A bad render option fails at the line it is written on, in one line naming the key; a lobe key
+// in a render cell and a render key in a lobe cell name the cell.
+TEST(BatchRender, ABadRenderOptionIsRefusedAtItsLine) {
+    const std::string head = "output = \"f.png\"\n[[row]]\nlabel = \"a\"\nheightfield = \"builtin:grating\"\n";
+    const std::string column = "[[column]]\nlabel = \"b\"\nkind = \"render\"\n";
+    for (const auto& [line, key] : std::vector<std::pair<std::string, std::string>>{
+             {"fov = 0", "fov"},
+             {"camera = \"0,-1cm,-1cm:0,0,0\"", "camera"},
+             {"light = [\"0,1cm,1cm:1\", \"0,1cm,-1cm:1\"]", "light"},
+             {"size = \"1000000x10\"", "size"},
+             {"spp = 3", "spp"},
+             {"colour_space = \"sRGB\"", "colour_space"},
+             {"exposure = \"bright\"", "exposure"}}) {
+        const std::string error = manifest_error(head + column + line + "\n");
+        EXPECT_NE(error.find("m.toml:8: key '" + key + "'"), std::string::npos) << line << ": " << error;
+        EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+    }
+    EXPECT_NE(manifest_error(head + column + "res = 64\n").find("query key 'res' does not apply to a render"),
+              std::string::npos);
+    EXPECT_NE(manifest_error(head + column + "method = \"stam\"\n").find("cannot answer a BSDF per shading point"),
+              std::string::npos);
+    EXPECT_NE(manifest_error(head + "[[column]]\nlabel = \"b\"\nfov = 20\n").find("set kind = \"render\""),
+              std::string::npos);
+    EXPECT_NE(manifest_error(head + column + "kind = \"movie\"\n").find("m.toml:8"), std::string::npos);
+}
+
+// scripts/reproduce-figures.sh patch: Yan 2018 Fig. 12's grid, 3 surfaces x (8-bin spectral,
+// 0.4 um, geometric), every cell a render of the Patch scene's camera and light in Al.
+TEST(BatchRender, ThePatchManifestHasNineRenderCells) {
+    const Manifest manifest = load_manifest(std::string(GLINTSCOPE_SOURCE_DIR) + "/figures/patch.toml");
+    ASSERT_EQ(manifest.panels.size(), 9u);
+    EXPECT_EQ(manifest.row_labels, (std::vector<std::string>{"isotropic", "brushed", "scratched"}));
+    for (const ManifestPanel& panel : manifest.panels) {
+        EXPECT_TRUE(panel.render);
+        const RenderRequest request = render_request(panel.method, panel.query);
+        const Scene view = render_view(request);
+        EXPECT_EQ(view.camera.width, 320);
+        EXPECT_EQ(view.camera.height, 180);
+        EXPECT_EQ(request.heightfield, "builtin:" + manifest.row_labels[panel.row]);
+        const LobeQuery query = check_query_text(render_query_text(request));
+        EXPECT_EQ(query.material.name, "Al");
+        const std::vector<std::size_t> bins = {8, 1, 1};
+        EXPECT_EQ(panel.method, panel.column == 2 ? "geometric" : "gabor");
+        EXPECT_EQ(query.wavelengths_um.size(), bins[panel.column]);
+        if (panel.column == 1) EXPECT_DOUBLE_EQ(query.wavelengths_um[0], 0.4);
+    }
 }
 
 }  // namespace

@@ -220,3 +220,61 @@ TEST_F(FigurePicture, APaperFigureHasOneColourBarPerRowAndTheSharedLegendInItsCa
 
 }  // namespace
 }  // namespace glintscope
+
+namespace glintscope {
+namespace {
+
+// A render cell (a 16:9 picture) beside a square lobe: the picture fills a rectangle of its own
+// aspect, zoomed by a whole factor, every pixel of it the picture's pixel, with the figure's white
+// background right outside it; the lobe keeps its square disk.
+TEST(FigureCells, APictureIsDrawnAtItsAspectBesideASquareLobe) {
+    testing::TemporaryDirectory directory;
+    const LobeImage lobe = gaussian_lobe(16, 8, 8, 3.0, 3.0);
+    DisplayPicture picture;
+    picture.width = 32;
+    picture.height = 18;
+    picture.caption = {"render, 32x18"};
+    for (int y = 0; y < picture.height; ++y)
+        for (int x = 0; x < picture.width; ++x)
+            for (int channel = 0; channel < 3; ++channel)
+                picture.rgb.push_back(std::uint8_t((x * 7 + y * 13 + channel * 50) % 200));  // never white
+    Figure figure;
+    figure.column_labels = {"lobe", "render"};
+    figure.row_labels = {"row"};
+    figure.cells = {{&lobe, nullptr}};
+    figure.pictures = {{nullptr, &picture}};
+    const std::string path = directory.file("cells.png");
+    const FigureLayout layout = write_figure(figure, path, {});
+    const PixelRect rect = layout.pictures[0][1];
+    EXPECT_EQ(picture_zoom(32, 18), 10);
+    EXPECT_EQ(rect.width, 320);
+    EXPECT_EQ(rect.height, 180);  // 16:9, as the picture
+    EXPECT_EQ(layout.pictures[0][0].width, 0);
+    EXPECT_EQ(layout.disks[0][0].size, 320);  // the lobe's square disk
+    EXPECT_GT(rect.x, layout.disks[0][0].x + layout.disks[0][0].size);
+
+    auto input = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(input);
+    const int width = input->spec().width, height = input->spec().height;
+    std::vector<std::uint8_t> pixels(std::size_t(width) * height * 3);
+    ASSERT_TRUE(input->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data()));
+    const auto at = [&](int x, int y) { return &pixels[(std::size_t(y) * width + x) * 3]; };
+    int mismatches = 0;
+    for (int y = 0; y < rect.height; ++y)
+        for (int x = 0; x < rect.width; ++x)
+            for (int channel = 0; channel < 3; ++channel)
+                mismatches += at(rect.x + x, rect.y + y)[channel] !=
+                              picture.rgb[(std::size_t(y / 10) * picture.width + x / 10) * 3 + channel];
+    EXPECT_EQ(mismatches, 0);
+    for (int x = rect.x; x < rect.x + rect.width; ++x) {
+        EXPECT_EQ(at(x, rect.y - 1)[0], 255) << x;                // white above
+        EXPECT_EQ(at(x, rect.y + rect.height)[0], 255) << x;      // and below: exactly 180 rows
+    }
+    for (int y = rect.y; y < rect.y + rect.height; ++y) {
+        EXPECT_EQ(at(rect.x - 1, y)[1], 255) << y;                // white left
+        EXPECT_EQ(at(rect.x + rect.width, y)[1], 255) << y;       // and right: exactly 320 columns
+    }
+}
+
+}  // namespace
+}  // namespace glintscope

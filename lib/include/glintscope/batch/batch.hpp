@@ -19,7 +19,8 @@ struct ManifestPanel {
     std::size_t row = 0;
     std::size_t column = 0;
     std::string method;
-    QueryText query;  // without `method`
+    QueryText query;      // without `method`; a render cell's also holds its render keys (render_request.hpp)
+    bool render = false;  // kind = "render": the cell is `glintscope render` of its keys, not a lobe
 };
 
 struct Manifest {
@@ -38,7 +39,8 @@ struct Manifest {
 
 // Reads and checks a manifest before any computation: TOML syntax, known keys, value types,
 // every panel's query keys and values, its method and quantity, and its heightfield (a
-// builtin kind or an existing file). Errors are one line: "FILE:LINE: key 'K': problem".
+// builtin kind or an existing file); a render cell's scene and colour options as the render
+// command checks them. Errors are one line: "FILE:LINE: key 'K': problem".
 Manifest load_manifest(const std::string& path);
 
 struct BatchOptions {
@@ -71,7 +73,10 @@ using BatchProgress = std::function<void(std::size_t done, std::size_t total, co
 BatchResult run_batch(const Manifest& manifest, const BatchOptions& options, const LobeOutputOptions& output,
                       const BatchProgress& progress = {});
 
-// Where a panel's EXR lives: "<figure stem>.panels/r<row>-c<column>.exr" beside the figure.
+// Where a panel's EXR lives: "<figure stem>.panels/r<row>-c<column>.exr" beside the figure. A
+// render cell's EXR is the render command's -o output; its display PNG (--png) is beside it,
+// render_picture_path.
 std::string panel_path(const Manifest& manifest, const ManifestPanel& panel);
+std::string render_picture_path(const Manifest& manifest, const ManifestPanel& panel);
 
 }  // namespace glintscope

@@ -6,8 +6,10 @@
 //   λ or the spectral range where it applies, θ_i/φ_i, footprint size), a colour bar (one wavelength) or the
 //   stated exposure (spectral), and a note when pixels clip;
 // - a figure: a grid of such panels with a title, column and row labels and a caption line,
-//   exposed alike per row or over the whole figure (stated in the caption).
+//   exposed alike per row or over the whole figure (stated in the caption); a cell may instead
+//   hold a display picture (a render) drawn as it is, at its own aspect.
 // Text is ASCII (this OpenImageIO garbles multi-byte UTF-8 in render_text), in DejaVu Sans.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -65,12 +67,32 @@ struct HeightInset {
     Footprint footprint;
 };
 
+// A picture shown as it is, at its own aspect (a render's display PNG, already exposed): 8-bit
+// display RGB, row 0 at the top, with the caption lines to write under it.
+struct DisplayPicture {
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> rgb;  // [row][col][r, g, b]
+    std::vector<std::string> caption;
+    Provenance metadata;            // its "glintscope:" attributes
+};
+
+// A display PNG read back with its metadata (caption empty); throws Error naming the file.
+DisplayPicture load_display_picture(const std::string& path);
+
+// How many figure pixels (per side) a picture pixel takes: the largest whole factor that keeps the
+// picture's longer side within the 320 pixels of the smallest lobe panel, at least 1.
+int picture_zoom(int width, int height);
+
 struct Figure {
     std::string title;
     std::string caption;                               // a line under the grid (the exposure rule is added)
     std::vector<std::string> column_labels;
     std::vector<std::string> row_labels;
     std::vector<std::vector<const LobeImage*>> cells;  // [row][column]; nullptr leaves a cell empty
+    // [row][column] like cells, or empty: a picture where a cell holds no lobe, drawn at
+    // picture_zoom with its caption and no colour bar (its exposure is its own, in its caption).
+    std::vector<std::vector<const DisplayPicture*>> pictures;
     SharedExposure exposure = SharedExposure::per_row;
     std::vector<HeightInset> insets;                   // per row; empty: no inset column
     FigureStyle style = FigureStyle::standard;         // paper: needs a shared exposure (per row or whole)
@@ -109,12 +131,14 @@ struct FigureLayout {
     int height = 0;
     std::vector<std::vector<PixelSquare>> disks;  // the square the view fills (image pixel (r, c) of
                                                   // the view at zoom size/(view side))
+    std::vector<std::vector<PixelRect>> pictures; // per cell, the rectangle its picture fills ({} without one)
     PixelBox view;                                // the image pixels shown ({0, 0, N, N}: all)
     std::vector<PixelRect> colour_bars;           // every colour bar drawn
     std::vector<std::string> caption;             // the caption's lines, as written under the grid
 };
 
-// Writes the figure atomically; throws Error for an empty or ragged grid or mixed resolutions.
+// Writes the figure atomically; throws Error for an empty or ragged grid, mixed resolutions, or a
+// cell given both a lobe and a picture.
 FigureLayout write_figure(const Figure& figure, const std::string& path, const LobeOutputOptions& options);
 
 // One row: test | reference | test − reference (compare.hpp: difference_image). The two inputs

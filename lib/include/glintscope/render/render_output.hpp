@@ -25,6 +25,11 @@ DisplayExposure write_render_png(const RenderImage& image, const std::string& pa
 DisplayExposure write_sweep_pngs(const std::vector<RenderImage>& frames, const std::vector<std::string>& frame_paths,
                                  const std::string& sheet_path, const ColourSettings& colour);
 
+// The caption lines of a render's PNG, from its metadata (a figure's render cell, docs/batch.md):
+// the method (with the diffraction model of a wave method) and material; the wavelength or the
+// spectral bins; the size, samples per pixel and the PNG's exposure with its rule.
+std::vector<std::string> render_caption(const Provenance& metadata);
+
 // The EXR's "Y" channel or R, G, B channels back, [channel][row][col], for tests and comparisons.
 struct RenderExr {
     int width = 0;
