@@ -343,6 +343,16 @@ double triangle_spread(Pixel a, Pixel b, Pixel c, Pixel p, const Blur& blur) {
     return 2.0 / std::abs(cross);
 }
 
+// The sub-cells of side h × k of a cell at (x, y): the weights (footprint weight at the
+// centroid × area) of sub-cell (a, b)'s two triangles, lower (p00, p10, p11), upper (p00, p11, p01).
+struct SubCells {
+    const Weight& weight;
+    double x, y, h, k;
+
+    double lower(int a, int b) const { return 0.5 * h * k * weight(x + a * h + h * (2.0 / 3.0), y + b * k + k / 3.0); }
+    double upper(int a, int b) const { return 0.5 * h * k * weight(x + a * h + h / 3.0, y + b * k + k * (2.0 / 3.0)); }
+};
+
 // One footprint's query: the lattice of its support, its weight, the normal in pixel units and
 // in the index's quanta, and the row of `offsets` of its bin (−1: no cell's box reaches it).
 struct Query {
@@ -366,20 +376,18 @@ struct Query {
     // pruned, a divided cell evaluates only the sub-corners of sub-cells whose blended corners'
     // box, widened by the cell's stray (pixels) and the reach, holds the normal.
     double cell_density(int i, int j, long long unwrapped_i, long long unwrapped_j, int n) const {
-        const double x = cell_x(unwrapped_i), y = cell_y(unwrapped_j);
-        const double h = lattice.step_x / n, k = lattice.step_y / n;
-        const double half_area = 0.5 * h * k;
-        // Centroid weights (only of triangles whose spread reaches the normal: exp is costly).
-        const auto pair = [&](Pixel p00, Pixel p10, Pixel p01, Pixel p11, double xa, double yb) {
+        const SubCells cells{weight, cell_x(unwrapped_i), cell_y(unwrapped_j), lattice.step_x / n, lattice.step_y / n};
+        // Centroid weights only of triangles whose spread reaches the normal: exp is costly.
+        const auto pair = [&](Pixel p00, Pixel p10, Pixel p01, Pixel p11, int a, int b) {
             double sum = 0.0;
             const double lower = triangle_spread(p00, p10, p11, normal, blur);
-            if (lower > 0.0) sum += lower * half_area * weight(xa + h * (2.0 / 3.0), yb + k / 3.0);
+            if (lower > 0.0) sum += lower * cells.lower(a, b);
             const double upper = triangle_spread(p00, p11, p01, normal, blur);
-            if (upper > 0.0) sum += upper * half_area * weight(xa + h / 3.0, yb + k * (2.0 / 3.0));
+            if (upper > 0.0) sum += upper * cells.upper(a, b);
             return sum;
         };
         const CellCorners c = cell_corners(tree, i, j);
-        if (n == 1) return pair(c.p00, c.p10, c.p01, c.p11, x, y);
+        if (n == 1) return pair(c.p00, c.p10, c.p01, c.p11, 0, 0);
         const CellPatch patch(tree, i, j);
         const SubCorners corners(patch, c, n);
         const std::array<std::uint16_t, 4>& strays = tree.quadrant_strays[static_cast<std::size_t>(j) * tree.grid.cols + i];
@@ -407,7 +415,7 @@ struct Query {
                     const Pixel p00 = corners.at(a, b), p10 = corners.at(a + 1, b);
                     const Pixel p01 = corners.at(a, b + 1), p11 = corners.at(a + 1, b + 1);
                     if (prune && !quad_holds(p00, p10, p01, p11, reach)) continue;
-                    sum += pair(p00, p10, p01, p11, x + a * h, y + b * k);
+                    sum += pair(p00, p10, p01, p11, a, b);
                 }
             }
         }
@@ -466,6 +474,14 @@ struct Query {
 
 long long floor_div(long long a, long long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
+// The unwrapped index of a lattice's first cell along one axis (the lattice runs through the samples).
+long long first_cell(double origin, double texel) { return std::llround((origin - 0.5 * texel) / texel); }
+
+// The footprint weight of the truncated domain: a Gaussian truncated at K σ keeps 1 − e^{−K²/2}.
+double truncated_weight(const Footprint& footprint) {
+    return footprint.shape == FootprintShape::gaussian ? 1.0 - std::exp(-0.5 * kTruncationSigmas * kTruncationSigmas) : 1.0;
+}
+
 }  // namespace
 
 NormalBoundsTree make_normal_bounds_tree(std::shared_ptr<const BicubicInterpolant> surface,
@@ -493,8 +509,8 @@ double point_normal_density(const NormalBoundsTree& tree, const Footprint& footp
     Query query{tree,
                 lattice,
                 weight_for(grid, footprint),
-                std::llround((lattice.x0 - 0.5 * grid.dx_um) / grid.dx_um),
-                std::llround((lattice.y0 - 0.5 * grid.dy_um) / grid.dy_um),
+                first_cell(lattice.x0, grid.dx_um),
+                first_cell(lattice.y0, grid.dy_um),
                 pixel,
                 blur,
                 blur.radius,
@@ -516,11 +532,91 @@ double point_normal_density(const NormalBoundsTree& tree, const Footprint& footp
             const int y1 = static_cast<int>(std::min(last_y, oy + grid.rows) - oy);
             sum += query.piece(x0, x1, y0, y1, ox, oy);
         }
-    // The footprint weight of the truncated domain: a Gaussian truncated at K σ keeps 1 − e^{−K²/2}.
-    const double total = footprint.shape == FootprintShape::gaussian
-                             ? 1.0 - std::exp(-0.5 * kTruncationSigmas * kTruncationSigmas)
-                             : 1.0;
-    return sum * half_resolution * half_resolution / total;
+    return sum * half_resolution * half_resolution / truncated_weight(footprint);
+}
+
+NormalSampler make_normal_sampler(const NormalBoundsTree& tree, const Footprint& footprint) {
+    if (!answers_points(footprint)) throw Error("normals are drawn from the point query for Gaussian and whole-field footprints, not a box");
+    if (tree.intrinsic_roughness > 0.0) throw Error("normals are drawn from the point query without intrinsic roughness only");
+    const TexelGrid& grid = tree.grid;
+    NormalSampler sampler;
+    sampler.footprint = footprint;
+    sampler.lattice = lattice_for(grid, footprint);
+    sampler.weight = weight_for(grid, footprint);
+    sampler.first_x = first_cell(sampler.lattice.x0, grid.dx_um);
+    sampler.first_y = first_cell(sampler.lattice.y0, grid.dy_um);
+    const Lattice& lattice = sampler.lattice;
+    sampler.cumulative.resize(static_cast<std::size_t>(lattice.nx * lattice.ny));
+    double sum = 0.0;
+    for (long long cj = 0; cj < lattice.ny; ++cj)
+        for (long long ci = 0; ci < lattice.nx; ++ci) {
+            const int i = static_cast<int>((sampler.first_x + ci) - floor_div(sampler.first_x + ci, grid.cols) * grid.cols);
+            const int j = static_cast<int>((sampler.first_y + cj) - floor_div(sampler.first_y + cj, grid.rows) * grid.rows);
+            const int n = tree.subdivision[static_cast<std::size_t>(j) * grid.cols + i];
+            const SubCells cells{sampler.weight, lattice.x0 + static_cast<double>(ci) * lattice.step_x,
+                                 lattice.y0 + static_cast<double>(cj) * lattice.step_y, lattice.step_x / n, lattice.step_y / n};
+            for (int b = 0; b < n; ++b)
+                for (int a = 0; a < n; ++a) sum += cells.lower(a, b) + cells.upper(a, b);
+            sampler.cumulative[static_cast<std::size_t>(cj * lattice.nx + ci)] = sum;
+        }
+    if (!(sum > 0.0)) throw Error("the footprint weighs no triangle of the field");
+    sampler.density_scale = truncated_weight(footprint) / sum;
+    return sampler;
+}
+
+std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const NormalSampler& sampler, double u1, double u2) {
+    // A cell by its weight (u1), a triangle of it by its weight (u1's remainder), a uniform
+    // point of the triangle's image (that remainder and u2).
+    const std::vector<double>& cumulative = sampler.cumulative;
+    const double target = u1 * cumulative.back();
+    const std::size_t cell = std::min<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), target) - cumulative.begin(),
+                                                   cumulative.size() - 1);
+    const double before = cell == 0 ? 0.0 : cumulative[cell - 1];
+    const double remainder = std::clamp((target - before) / (cumulative[cell] - before), 0.0, 1.0);
+    const TexelGrid& grid = tree.grid;
+    const Lattice& lattice = sampler.lattice;
+    const long long ci = static_cast<long long>(cell) % lattice.nx, cj = static_cast<long long>(cell) / lattice.nx;
+    const int i = static_cast<int>((sampler.first_x + ci) - floor_div(sampler.first_x + ci, grid.cols) * grid.cols);
+    const int j = static_cast<int>((sampler.first_y + cj) - floor_div(sampler.first_y + cj, grid.rows) * grid.rows);
+    const int n = tree.subdivision[static_cast<std::size_t>(j) * grid.cols + i];
+    const SubCells cells{sampler.weight, lattice.x0 + static_cast<double>(ci) * lattice.step_x,
+                         lattice.y0 + static_cast<double>(cj) * lattice.step_y, lattice.step_x / n, lattice.step_y / n};
+    double cell_weight = 0.0;
+    for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) cell_weight += cells.lower(a, b) + cells.upper(a, b);
+    // The triangle: 2(b·n + a) + (0 lower, 1 upper), where the running weight passes the goal.
+    const double goal = remainder * cell_weight;
+    double running = 0.0, share = 0.0;
+    int chosen = -1;
+    for (int t = 0; t < 2 * n * n && chosen < 0; ++t) {
+        const int a = (t / 2) % n, b = (t / 2) / n;
+        const double w = t % 2 == 0 ? cells.lower(a, b) : cells.upper(a, b);
+        if (w > 0.0 && (running + w > goal || t == 2 * n * n - 1)) chosen = t, share = std::clamp((goal - running) / w, 0.0, 1.0);
+        running += w;
+    }
+    if (chosen < 0) return std::nullopt;
+    const int a = (chosen / 2) % n, b = (chosen / 2) / n;
+    const CellCorners c = cell_corners(tree, i, j);
+    Pixel p00 = c.p00, p10 = c.p10, p01 = c.p01, p11 = c.p11;
+    if (n > 1) {
+        const CellPatch patch(tree, i, j);
+        const SubCorners corners(patch, c, n);
+        p00 = corners.at(a, b), p10 = corners.at(a + 1, b), p01 = corners.at(a, b + 1), p11 = corners.at(a + 1, b + 1);
+    }
+    const Pixel first = p00, second = chosen % 2 == 0 ? p10 : p11, third = chosen % 2 == 0 ? p11 : p01;
+    // A uniform point of the triangle: √s spreads the barycentric mass evenly (Turk 1990).
+    const double root = std::sqrt(share);
+    const Pixel point{(1.0 - root) * first.u + root * (1.0 - u2) * second.u + root * u2 * third.u,
+                      (1.0 - root) * first.v + root * (1.0 - u2) * second.v + root * u2 * third.v};
+    if (!(triangle_spread(first, second, third, point, Blur{}) > 0.0)) return std::nullopt;
+    const double half_resolution = 0.5 * tree.resolution;
+    const DiskPoint normal{point.u / half_resolution - 1.0, 1.0 - point.v / half_resolution};
+    if (!inside_unit_disk(normal)) return std::nullopt;
+    return normal;
+}
+
+double sampled_normal_density(const NormalBoundsTree& tree, const NormalSampler& sampler, DiskPoint normal) {
+    return point_normal_density(tree, sampler.footprint, normal) * sampler.density_scale;
 }
 
 }  // namespace glintscope

@@ -34,6 +34,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "glintscope/core/geometry.hpp"
@@ -94,5 +95,32 @@ inline bool answers_points(const Footprint& footprint) { return footprint.shape 
 // 0 outside the disk. Throws Error for a box footprint.
 double point_normal_density(const NormalBoundsTree& tree, const Footprint& footprint, DiskPoint normal,
                             Pruning pruning = Pruning::on);
+
+// Normals drawn with the density of the point query for one footprint (no intrinsic roughness):
+// the D(h) of the point query is the push-forward of the footprint weight through the piecewise
+// affine normal map, so a draw picks a texel cell of the support by its weight (Σ of its
+// triangles' centroid weight × area), a triangle of it by its weight, and a uniform point of
+// the triangle's image. Built once per footprint (its cost is one pass over the support's
+// triangles' centroids, no normals evaluated); immutable, safe from many threads.
+struct NormalSampler {
+    Footprint footprint;
+    Lattice lattice;
+    Weight weight;
+    long long first_x = 0, first_y = 0;
+    std::vector<double> cumulative;  // running Σ of the lattice cells' weights, row by row
+    // What the point query's D divides by (the truncated footprint weight) over what the
+    // triangles weigh (the centroid rule's Σ): sampled density per disk area = D(h) × this.
+    double density_scale = 1.0;
+};
+
+// Throws Error for a box footprint or a tree with intrinsic roughness.
+NormalSampler make_normal_sampler(const NormalBoundsTree& tree, const Footprint& footprint);
+
+// A normal from two uniforms in [0, 1); none where the drawn triangle's image is a segment (the
+// point query gives it no density) or the draw leaves the disk.
+std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const NormalSampler& sampler, double u1, double u2);
+
+// The density per unit disk area with which sample_normal draws h.
+double sampled_normal_density(const NormalBoundsTree& tree, const NormalSampler& sampler, DiskPoint normal);
 
 }  // namespace glintscope
