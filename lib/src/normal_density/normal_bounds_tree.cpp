@@ -456,6 +456,20 @@ struct Query {
                 if (bin_row < 0 || beyond_cutoff(lo_x + ox, hi_x + ox, lo_y + oy, hi_y + oy)) continue;
                 const std::size_t t = static_cast<std::size_t>(tile_y) * tree.tile_cols + tile_x;
                 const std::uint32_t begin = tree.offsets[bin_row * stride + t], end = tree.offsets[bin_row * stride + t + 1];
+                // The tile's candidates first, their samples' images and strays prefetched, so
+                // that their cache misses overlap instead of following one another.
+                struct Candidate {
+                    int i, j, n;
+                };
+                std::array<Candidate, 64> candidates;
+                int count = 0;
+                const auto flush = [&] {
+                    for (int k = 0; k < count; ++k) {
+                        const Candidate& c = candidates[k];
+                        sum += cell_density(c.i, c.j, c.i + ox, c.j + oy, c.n);
+                    }
+                    count = 0;
+                };
                 for (std::uint32_t e = begin; e < end; ++e) {
                     const BinnedCell& entry = tree.cells[e];
                     if (normal_quanta.u < entry.u_low || normal_quanta.u > entry.u_high || normal_quanta.v < entry.v_low ||
@@ -465,8 +479,22 @@ struct Query {
                     const int i = tile_x * side + place % side, j = tile_y * side + place / side;
                     if (i < lo_x || i >= hi_x || j < lo_y || j >= hi_y || beyond_cutoff(i + ox, i + 1 + ox, j + oy, j + 1 + oy))
                         continue;
-                    sum += cell_density(i, j, i + ox, j + oy, (entry.place & 63) + 1);
+                    const std::size_t cell = static_cast<std::size_t>(j) * tree.grid.cols + i;
+                    const int above = j + 1 == tree.grid.rows ? 0 : j + 1;
+                    __builtin_prefetch(&tree.samples[cell]);
+                    __builtin_prefetch(&tree.samples[static_cast<std::size_t>(above) * tree.grid.cols + i]);
+                    const int n = (entry.place & 63) + 1;
+                    if (n > 1 && tree.grid.rows > 2) {
+                        __builtin_prefetch(&tree.quadrant_strays[cell]);
+                        for (int m = -1; m <= 2; ++m) {
+                            const int row = j + m < 0 ? j + m + tree.grid.rows : j + m >= tree.grid.rows ? j + m - tree.grid.rows : j + m;
+                            __builtin_prefetch(tree.surface->sample_row(row) + std::max(0, i - 1));
+                        }
+                    }
+                    candidates[count++] = {i, j, n};
+                    if (count == static_cast<int>(candidates.size())) flush();
                 }
+                flush();
             }
         return sum;
     }
