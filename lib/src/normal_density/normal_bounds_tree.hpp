@@ -12,9 +12,11 @@
 // inline. A query reads, per tile of the footprint's truncated support, only the list of h's
 // bin: a few contiguous cache lines, and independent misses after it (no chain of node visits).
 // A divided cell's (n + 1)² sub-corners are not stored (a gigabyte per 1024² of field at the
-// defaults); the cell keeps its stray, the largest distance of a sub-corner's image from the
-// bilinear blend of the cell's corner images, so that a query evaluates only the sub-corners of
-// sub-cells whose blended box, widened by the stray, holds h, by the same calls as the image.
+// defaults); per quadrant (split at ⌊n/2⌋) the cell keeps its stray, the largest distance of a
+// sub-corner's image from the bilinear blend of the quadrant's corner images, so that a query
+// evaluates the quadrants' corners and then only the sub-corners of sub-cells whose blended box,
+// widened by the stray, holds h, from the cell's 4 × 4 samples read once (the image's values up
+// to rounding).
 //   D(h) = Σ over triangles whose image holds h of weight(centroid) · area / image area,
 // divided by the footprint weight of the truncated domain (1 − e^{−K²/2} for a Gaussian), so
 // that ∫ D dA_disk = 1 as the image's Σ D (2/N)² = 1 (the image also absorbs the centroid rule's

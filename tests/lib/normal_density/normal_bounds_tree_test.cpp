@@ -1,8 +1,9 @@
 // The point query of the exact normal density against its image: the image's pixel is the mean
 // of the point query over the pixel, point values at pixel centres match a smooth surface's
 // image, ∫ D dA = 1, a tilted plane's D sits at its normal, pruning changes nothing, threads
-// change nothing, a footprint straddling the field's edge reads the tiles on both sides, and
-// intrinsic roughness matches the image's blur.
+// change nothing, a footprint straddling the field's edge reads the tiles on both sides,
+// intrinsic roughness matches the image's blur, and the sampler's draws of h fall in the image's
+// pixels with their masses.
 #include "normal_density/normal_bounds_tree.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,7 @@
 // The geometric method's point field (one normal-bounds tree per field, any footprint): the
 // microfacet lobe of pndf's point query, exactly reciprocal, conserving the energy that the
-// footprint's NDF image predicts, and answered from the images where a tree cannot answer.
+// footprint's NDF image predicts, sampled with its own pdf (χ²) and a mean weight equal to that
+// albedo, and answered from the images where a tree cannot answer.
 #include <gtest/gtest.h>
 
 #include <algorithm>
