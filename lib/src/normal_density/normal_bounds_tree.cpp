@@ -353,6 +353,30 @@ struct SubCells {
     double upper(int a, int b) const { return 0.5 * h * k * weight(x + a * h + h / 3.0, y + b * k + k * (2.0 / 3.0)); }
 };
 
+// Σ of the weights of a cell's 2n² triangles, one by one.
+double cell_weight(const SubCells& cells, int n) {
+    double sum = 0.0;
+    for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) sum += cells.lower(a, b) + cells.upper(a, b);
+    return sum;
+}
+
+// The same for a cell wholly within a Gaussian weight's cutoff, by its separability:
+// e^{−(dx² + dy²)/(2σ²)} = e^{−dx²/(2σ²)} e^{−dy²/(2σ²)}, so the sum over the sub-cells' lower
+// centroids (a + ⅔, b + ⅓) is (Σ_a e_x)(Σ_b e_y), the upper ones' alike: 4n exponentials, not 2n².
+double separable_cell_weight(const SubCells& cells, int n) {
+    const Weight& w = cells.weight;
+    double x_lower = 0.0, x_upper = 0.0, y_lower = 0.0, y_upper = 0.0;
+    const auto e = [&](double d) { return std::exp(-d * d * w.inverse_two_variance); };
+    for (int a = 0; a < n; ++a) {
+        x_lower += e(cells.x + a * cells.h + cells.h * (2.0 / 3.0) - w.centre.x);
+        x_upper += e(cells.x + a * cells.h + cells.h / 3.0 - w.centre.x);
+        y_lower += e(cells.y + a * cells.k + cells.k / 3.0 - w.centre.y);
+        y_upper += e(cells.y + a * cells.k + cells.k * (2.0 / 3.0) - w.centre.y);
+    }
+    return 0.5 * cells.h * cells.k * w.scale * (x_lower * y_lower + x_upper * y_upper);
+}
+
 // One footprint's query: the lattice of its support, its weight, the normal in pixel units and
 // in the index's quanta, and the row of `offsets` of its bin (−1: no cell's box reaches it).
 struct Query {
@@ -583,8 +607,11 @@ NormalSampler make_normal_sampler(const NormalBoundsTree& tree, const Footprint&
             const int n = tree.subdivision[static_cast<std::size_t>(j) * grid.cols + i];
             const SubCells cells{sampler.weight, lattice.x0 + static_cast<double>(ci) * lattice.step_x,
                                  lattice.y0 + static_cast<double>(cj) * lattice.step_y, lattice.step_x / n, lattice.step_y / n};
-            for (int b = 0; b < n; ++b)
-                for (int a = 0; a < n; ++a) sum += cells.lower(a, b) + cells.upper(a, b);
+            const Weight& w = sampler.weight;
+            const double far_x = std::max(std::abs(cells.x - w.centre.x), std::abs(cells.x + lattice.step_x - w.centre.x));
+            const double far_y = std::max(std::abs(cells.y - w.centre.y), std::abs(cells.y + lattice.step_y - w.centre.y));
+            const bool within = w.shape == FootprintShape::gaussian && far_x * far_x + far_y * far_y < w.cutoff_squared;
+            sum += within ? separable_cell_weight(cells, n) : cell_weight(cells, n);
             sampler.cumulative[static_cast<std::size_t>(cj * lattice.nx + ci)] = sum;
         }
     if (!(sum > 0.0)) throw Error("the footprint weighs no triangle of the field");
@@ -609,11 +636,8 @@ std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const Norma
     const int n = tree.subdivision[static_cast<std::size_t>(j) * grid.cols + i];
     const SubCells cells{sampler.weight, lattice.x0 + static_cast<double>(ci) * lattice.step_x,
                          lattice.y0 + static_cast<double>(cj) * lattice.step_y, lattice.step_x / n, lattice.step_y / n};
-    double cell_weight = 0.0;
-    for (int b = 0; b < n; ++b)
-        for (int a = 0; a < n; ++a) cell_weight += cells.lower(a, b) + cells.upper(a, b);
     // The triangle: 2(b·n + a) + (0 lower, 1 upper), where the running weight passes the goal.
-    const double goal = remainder * cell_weight;
+    const double goal = remainder * cell_weight(cells, n);
     double running = 0.0, share = 0.0;
     int chosen = -1;
     for (int t = 0; t < 2 * n * n && chosen < 0; ++t) {
