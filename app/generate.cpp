@@ -104,7 +104,7 @@ void run_generate(const GenerateOptions& options) {
     const Heightfield field = generate(recipe);
     save_heightfield(options.output, field);
     std::printf("wrote %s: %s, %dx%d samples of %s (%s x %s)\n", options.output.c_str(), recipe.kind.c_str(), field.cols,
-                field.rows, format_length(field.texel_um).c_str(), format_length(field.width_um()).c_str(),
+                field.rows, texel_text(field).c_str(), format_length(field.width_um()).c_str(),
                 format_length(field.height_um()).c_str());
 }
 

@@ -105,7 +105,7 @@ nlohmann::ordered_json iso_json(const Report& report) {
     return iso;
 }
 
-void print_json(const std::string& input, const Heightfield& field, const Report& report) {
+void print_json(const std::string& input, const Heightfield& field, const Report& report, bool declared_spacing) {
     const SurfaceStatistics& s = report.statistics;
     nlohmann::ordered_json statistics = {{"mean_um", s.mean_um}, {"sq_um", s.sq_um},   {"sa_um", s.sa_um},
                                          {"min_um", s.min_um},   {"max_um", s.max_um}, {"rms_slope_x", s.rms_slope_x},
@@ -130,6 +130,7 @@ void print_json(const std::string& input, const Heightfield& field, const Report
                                          {"rows", field.rows},
                                          {"texel_um", field.dx_um()},
                                          {"texel_y_um", field.dy_um()},
+                                         {"spacing_declared", declared_spacing},
                                          {"width_um", field.width_um()},
                                          {"height_um", field.height_um()},
                                          {"height_unit", "um"},
@@ -176,12 +177,20 @@ double displayed_mean(const SurfaceStatistics& s) {
     return std::fabs(s.mean_um) <= 1e-6 * (s.max_um - s.min_um) ? 0.0 : s.mean_um;
 }
 
-void print_text(const std::string& input, const Heightfield& field, const Report& report) {
+void print_text(const std::string& input, const Heightfield& field, const Report& report, bool declared_spacing) {
     const SurfaceStatistics& s = report.statistics;
     const bool builtin = input.starts_with("builtin:");
     print_line(builtin ? "surface:" : "file:", builtin ? input + ", generated: " + kind_description(input.substr(8)) : input);
     print_line("size:", std::to_string(field.cols) + " x " + std::to_string(field.rows) + " samples (x by y)");
     print_line("texel:", texel_text(field));
+    if (declared_spacing) {
+        const auto file = field.provenance.find("spacing.file");
+        print_line("spacing:", "DECLARED with --texel, not read from the file; " +
+                                   (file == field.provenance.end() ? std::string("the file states none")
+                                    : file->second == texel_text(field)
+                                        ? "the file states the same"
+                                        : "the file states " + file->second + ", overridden"));
+    }
     print_line("extent:", format_length(field.width_um()) + " x " + format_length(field.height_um()));
     print_line("units:", builtin                ? "exact: generated in um"
                          : field.units_assumed ? "ASSUMED: the file does not give them; texel 1 um and heights in um "
@@ -234,9 +243,9 @@ void run_info(const InfoSettings& settings) {
     else
         report.iso = compute_areal_parameters(field, settings.threshold);
     if (settings.json)
-        print_json(settings.input, field, report);
+        print_json(settings.input, field, report, settings.load.texel_um.has_value());
     else
-        print_text(settings.input, field, report);
+        print_text(settings.input, field, report, settings.load.texel_um.has_value());
 }
 
 }  // namespace

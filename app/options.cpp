@@ -46,16 +46,21 @@ void add_load_options(CLI::App& command, LoadOptions& options) {
             "--texel",
             [&options](const std::string& text) {
                 try {
-                    const double texel_um = parse_length_um(text);
-                    if (!(texel_um > 0.0)) throw Error("the texel size must be positive, got '" + text + "'");
-                    options.texel_um = texel_um;
+                    const BoxSides spacing = parse_box_sides(text);
+                    if (!(spacing.width_um > 0.0) || !(spacing.height_um > 0.0))
+                        throw Error("the texel size must be positive, got '" + text + "'");
+                    options.texel_um = spacing.width_um;
+                    options.texel_y_um.reset();
+                    if (spacing.height_um != spacing.width_um) options.texel_y_um = spacing.height_um;
                 } catch (const Error& e) {
                     throw CLI::ValidationError("--texel", e.what());
                 }
             },
-            "Sample spacing, overriding the file's (0.5um, 500nm, 2mm; a bare number is um). Default: the file's "
-            "own spacing (X3P, EXR from glintscope), else 1 um")
-        ->type_name("LENGTH");
+            "Declare the sample spacing, overriding the file's: 0.5um (square), 1x2um (dx by dy, rectangular), "
+            "500nm, 2mm; a bare number is um. For files that state none (NPY, plain images) or state a wrong one; "
+            "info and the provenance say it was declared. Default: the file's own spacing (X3P, EXR from "
+            "glintscope, Gwyddion's formats), else 1 um")
+        ->type_name("LENGTH[xLENGTH]");
     command.add_flag("--periodic", options.periodic,
                      "The file holds one tile of a periodic surface (e.g. written by generate): lobe footprints and "
                      "convert's fill and resample wrap around its borders. Default: a measured patch whose borders "

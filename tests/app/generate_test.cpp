@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <numbers>
 
 #include "cli_runner.hpp"
 #include "glintscope/io/heightfield_io.hpp"
@@ -28,6 +29,27 @@ TEST(GenerateCommand, WritesTheRequestedSurface) {
     EXPECT_NEAR(compute_statistics(field).sq_um, 0.1 / std::sqrt(2.0), 1e-6);
     EXPECT_EQ(field.provenance.at("generator"), "grating");
     EXPECT_EQ(field.provenance.at("generator.period_um"), "4");
+}
+
+TEST(GenerateCommand, TexelYMakesRectangularTexels) {
+    // A grating along y (period 4 µm) at 0.25 × 0.5 µm: the same 0.1 µm sinusoid in µm, its rms
+    // slope along y that of central differences over 2dy = 1 µm.
+    const TemporaryDirectory directory;
+    const std::string output = directory.file("grating.exr");
+    const auto result = run_cli({"generate", "grating", "--rows", "32", "--cols", "16", "--texel", "250nm",
+                                 "--texel-y", "0.5um", "--angle", "90", "-o", output});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("250 nm x 500 nm (x by y)"), std::string::npos) << result.output;
+    const Heightfield field = load_heightfield(output);
+    EXPECT_DOUBLE_EQ(field.dx_um(), 0.25);
+    EXPECT_DOUBLE_EQ(field.dy_um(), 0.5);
+    EXPECT_EQ(field.provenance.at("generator.texel_y_um"), "0.5");
+    const SurfaceStatistics stats = compute_statistics(field);
+    EXPECT_NEAR(stats.sq_um, 0.1 / std::sqrt(2.0), 1e-6);
+    EXPECT_NEAR(stats.rms_slope_y, 0.1 * std::sin(2.0 * std::numbers::pi * 0.5 / 4.0) / (std::sqrt(2.0) * 0.5), 1e-5);
+    const auto bad = run_cli({"generate", "grating", "--texel-y", "0", "-o", directory.file("bad.exr")});
+    EXPECT_EQ(bad.exit_code, 1) << bad.output;
+    EXPECT_NE(bad.output.find("texel_y: must be a positive length"), std::string::npos) << bad.output;
 }
 
 TEST(GenerateCommand, OptionsOverrideARecipe) {

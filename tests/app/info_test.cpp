@@ -93,6 +93,34 @@ TEST(InfoCommand, SaysWhenUnitsWereAssumedAndTakesLoadingOptions) {
     EXPECT_NEAR(json["statistics"]["max_um"].get<double>(), 0.002, 1e-9);  // 1 nm · 2
 }
 
+TEST(InfoCommand, DeclaredRectangularSpacingIsSaidToBeDeclared) {
+    TemporaryDirectory directory;
+    const std::string npy = directory.file("checker.npy");
+    save_heightfield(npy, checkerboard());
+    const auto text = run_cli({"info", npy, "--texel", "1x2um"});
+    ASSERT_EQ(text.exit_code, 0) << text.output;
+    EXPECT_TRUE(contains(line_of(text.output, "texel:"), "1 um x 2 um (x by y)")) << text.output;
+    EXPECT_TRUE(contains(line_of(text.output, "spacing:"), "DECLARED with --texel, not read from the file; the file "
+                                                           "states none"))
+        << text.output;
+    EXPECT_TRUE(contains(line_of(text.output, "extent:"), "6 um x 8 um")) << text.output;
+    const auto json = nlohmann::json::parse(run_cli({"info", npy, "--texel", "1x2um", "--json"}).output);
+    EXPECT_EQ(json["texel_um"], 1.0);
+    EXPECT_EQ(json["texel_y_um"], 2.0);
+    EXPECT_EQ(json["spacing_declared"], true);
+    // An EXR's own spacing is named when a declaration overrides it.
+    const std::string exr = directory.file("checker.exr");
+    save_heightfield(exr, checkerboard());
+    const auto overridden = run_cli({"info", exr, "--texel", "2um"});
+    ASSERT_EQ(overridden.exit_code, 0) << overridden.output;
+    EXPECT_TRUE(contains(line_of(overridden.output, "spacing:"), "the file states 500 nm, overridden"))
+        << overridden.output;
+    EXPECT_EQ(line_of(run_cli({"info", exr}).output, "spacing:"), "");
+    const auto bad = run_cli({"info", npy, "--texel", "1x0um"});
+    EXPECT_NE(bad.exit_code, 0) << bad.output;
+    EXPECT_TRUE(contains(bad.output, "--texel")) << bad.output;
+}
+
 TEST(InfoCommand, BadFilesFailWithOneLineAndExitCodeOne) {
     TemporaryDirectory directory;
     const std::string corrupt = directory.file("corrupt.x3p");

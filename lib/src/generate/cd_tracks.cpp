@@ -5,8 +5,8 @@
 // it is the surface whose phase exp(ikwh) Stam 1999 eq. 21 expands to first order, so it matches his
 // spectrum (Stam 1999 eq. 23) for weak phases. BumpOverlap::merge takes the union of a track's bumps
 // instead, like the pits of a real disc, which are never deeper than h0.
-// Each texel holds the area average of h over its square (the rect edges integrated exactly),
-// so the sharp bump edges do not alias and the volume Σ h·dx² is exact.
+// Each texel holds the area average of h over its rectangle (the rect edges integrated exactly),
+// so the sharp bump edges do not alias and the volume Σ h·dx·dy is exact.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -21,7 +21,7 @@ namespace {
 constexpr std::size_t kRowsPerChunk = 32;
 
 int track_count(const GridSpec& grid, const CdParameters& parameters) {
-    return static_cast<int>(std::floor(grid.cols * grid.texel_um / parameters.track_spacing_um + 1e-9));
+    return static_cast<int>(std::floor(grid.width_um() / parameters.track_spacing_um + 1e-9));
 }
 
 double track_centre(const CdParameters& parameters, int track) { return (track + 0.5) * parameters.track_spacing_um; }
@@ -30,7 +30,7 @@ double track_centre(const CdParameters& parameters, int track) { return (track +
 // Poisson process on the periodic interval [0, H).
 std::vector<std::vector<double>> bump_centres_by_track(const GridSpec& grid, const CdParameters& parameters,
                                                        std::uint64_t seed) {
-    const double height = grid.rows * grid.texel_um;
+    const double height = grid.height_um();
     const CounterRng rng(seed, kStreamCdTracks);
     std::vector<std::vector<double>> tracks(track_count(grid, parameters));
     for (std::size_t n = 0; n < tracks.size(); ++n) {
@@ -103,8 +103,9 @@ std::vector<Point2> place_cd_bumps(const GridSpec& grid, const CdParameters& par
 std::vector<float> cd_tracks(const GridSpec& grid, const CdParameters& parameters, std::uint64_t seed) {
     const int rows = grid.rows;
     const int cols = grid.cols;
-    const double dx = grid.texel_um;
-    const double height = rows * dx;
+    const double dx = grid.dx_um();
+    const double dy = grid.dy_um();
+    const double height = grid.height_um();
     const auto centres = bump_centres_by_track(grid, parameters, seed);
     std::vector<std::vector<Interval>> tracks;
     for (const std::vector<double>& track : centres) tracks.push_back(track_intervals(track, parameters, height));
@@ -128,8 +129,8 @@ std::vector<float> cd_tracks(const GridSpec& grid, const CdParameters& parameter
 
     std::vector<float> heights(static_cast<std::size_t>(rows) * cols, 0.0f);
     parallel_for(rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
-        const double chunk_y0 = (rows - static_cast<double>(end)) * dx;
-        const double chunk_y1 = (rows - static_cast<double>(begin)) * dx;
+        const double chunk_y0 = (rows - static_cast<double>(end)) * dy;
+        const double chunk_y1 = (rows - static_cast<double>(begin)) * dy;
         std::vector<double> sum((end - begin) * cols, 0.0);
         for (std::size_t n = 0; n < tracks.size(); ++n) {
             const std::vector<Interval>& intervals = tracks[n];
@@ -138,8 +139,8 @@ std::vector<float> cd_tracks(const GridSpec& grid, const CdParameters& parameter
                                                   [&](const Interval& i) { return i.end + shift <= chunk_y0; });
                 for (auto it = first; it != intervals.end() && it->start + shift < chunk_y1; ++it) {
                     for (std::size_t r = begin; r < end; ++r) {
-                        const double row_y0 = (rows - static_cast<double>(r) - 1.0) * dx;
-                        const double row_weight = overlap(it->start + shift, it->end + shift, row_y0, row_y0 + dx) / dx;
+                        const double row_y0 = (rows - static_cast<double>(r) - 1.0) * dy;
+                        const double row_weight = overlap(it->start + shift, it->end + shift, row_y0, row_y0 + dy) / dy;
                         if (row_weight <= 0.0) continue;
                         for (const Column& column : track_columns[n])
                             sum[(r - begin) * cols + column.index] +=

@@ -43,25 +43,27 @@ double folded_exponential(double t, double dx, double k) {
 
 SampledPowerSpectrum::SampledPowerSpectrum(const GaussianFieldParameters& parameters, const GridSpec& grid)
     : parameters_(parameters), grid_(grid) {
-    const double dx = grid.texel_um;
+    const double dx = grid.dx_um();
+    const double dy = grid.dy_um();
     separable_ = parameters.orientation_rad == 0.0 && parameters.correlation != CorrelationFunction::c2;
     if (separable_) {
-        const auto folded = [&](double t, double k) {
-            return parameters.correlation == CorrelationFunction::c1 ? folded_gaussian(t, dx, k)
-                                                                     : folded_exponential(t, dx, k);
+        const auto folded = [&](double t, double spacing, double k) {
+            return parameters.correlation == CorrelationFunction::c1 ? folded_gaussian(t, spacing, k)
+                                                                     : folded_exponential(t, spacing, k);
         };
         for (int j = 0; j <= grid.cols / 2; ++j)
-            aliased_x_.push_back(folded(parameters.correlation_length_x_um, j / (grid.cols * dx)));
+            aliased_x_.push_back(folded(parameters.correlation_length_x_um, dx, j / (grid.cols * dx)));
         for (int i = 0; i <= grid.rows / 2; ++i)
-            aliased_y_.push_back(folded(parameters.correlation_length_y_um, i / (grid.rows * dx)));
+            aliased_y_.push_back(folded(parameters.correlation_length_y_um, dy, i / (grid.rows * dy)));
         return;
     }
-    // Beyond the nearest 3×3 images the terms vary little across the band [−1/(2dx), 1/(2dx)]²,
+    // Beyond the nearest 3×3 images the terms vary little across the band [−1/(2dx), 1/(2dx)] ×
+    // [−1/(2dy), 1/(2dy)],
     // so they are taken at its centre: one constant, without which C2 would lose the variance
     // of its slowly decaying tail (about 1/(2πT/dx) of the total) and read a longer T.
     for (int m = -kFarImages; m <= kFarImages; ++m)
         for (int n = -kFarImages; n <= kFarImages; ++n)
-            if (std::abs(m) > 1 || std::abs(n) > 1) far_images_ += density(m / dx, n / dx);
+            if (std::abs(m) > 1 || std::abs(n) > 1) far_images_ += density(m / dx, n / dy);
 }
 
 double SampledPowerSpectrum::density(double kx, double ky) const {
@@ -91,10 +93,11 @@ double SampledPowerSpectrum::density(double kx, double ky) const {
 }
 
 double SampledPowerSpectrum::nearby_images(double kx, double ky) const {
-    const double sampling_frequency = 1.0 / grid_.texel_um;
+    const double sampling_frequency_x = 1.0 / grid_.dx_um();
+    const double sampling_frequency_y = 1.0 / grid_.dy_um();
     double sum = 0.0;
     for (int m = -1; m <= 1; ++m)
-        for (int n = -1; n <= 1; ++n) sum += density(kx + m * sampling_frequency, ky + n * sampling_frequency);
+        for (int n = -1; n <= 1; ++n) sum += density(kx + m * sampling_frequency_x, ky + n * sampling_frequency_y);
     return sum;
 }
 
@@ -102,8 +105,8 @@ double SampledPowerSpectrum::aliased(int i, int j) const {
     const int fi = signed_index(i, grid_.rows);
     const int fj = signed_index(j, grid_.cols);
     if (separable_) return aliased_x_[std::abs(fj)] * aliased_y_[std::abs(fi)];
-    const double kx = fj / (grid_.cols * grid_.texel_um);
-    const double ky = -fi / (grid_.rows * grid_.texel_um);
+    const double kx = fj / grid_.width_um();
+    const double ky = -fi / grid_.height_um();
     return nearby_images(kx, ky) + far_images_;
 }
 

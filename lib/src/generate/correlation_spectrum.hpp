@@ -14,10 +14,10 @@ public:
     // The analytic 2-D transform S(k) = ∫ C(s) e^{−i2π k·s} ds at k in cycles per µm.
     double density(double kx, double ky) const;
 
-    // S folded into the sampling band, Σ_m S(k + m/dx) over the reciprocal lattice m ∈ Z², at the
-    // DFT bin (row i, column j), where kx = j/(cols·dx) and ky = −i/(rows·dx) (indices taken
-    // modulo the grid, signed; row index runs along −y). By Poisson summation this equals dx²
-    // times the DFT of C sampled on the periodic grid, so a field filtered by its square root has
+    // S folded into the sampling band, Σ_(m,n) S(kx + m/dx, ky + n/dy) over the reciprocal lattice
+    // (m, n) ∈ Z², at the DFT bin (row i, column j), where kx = j/(cols·dx) and ky = −i/(rows·dy)
+    // (indices taken modulo the grid, signed; row index runs along −y). By Poisson summation this
+    // equals dx·dy times the DFT of C sampled on the periodic grid, so a field filtered by its square root has
     // covariance C at the sample lags.
     double aliased(int i, int j) const;
 

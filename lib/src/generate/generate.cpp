@@ -34,7 +34,7 @@ Heightfield generate(const Recipe& recipe) {
     Heightfield field;
     field.rows = recipe.grid.rows;
     field.cols = recipe.grid.cols;
-    field.texel_um = recipe.grid.texel_um;
+    set_spacing(field, recipe.grid.dx_um(), recipe.grid.dy_um());
     generate_heights(recipe, field);
 
     const std::string generator = generator_name(recipe.kind);

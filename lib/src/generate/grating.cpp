@@ -15,10 +15,10 @@ std::vector<float> sinusoidal_grating(const GridSpec& grid, const GratingParamet
     const double sin_angle = std::sin(parameters.angle_rad);
     parallel_for(grid.rows, 64, [&](std::size_t begin, std::size_t end) {
         for (std::size_t r = begin; r < end; ++r) {
-            // conventions.md: sample (r, c) sits at ((c + 0.5)·dx, (R − r − 0.5)·dx).
-            const double y = (grid.rows - static_cast<double>(r) - 0.5) * grid.texel_um;
+            // conventions.md: sample (r, c) sits at ((c + 0.5)·dx, (R − r − 0.5)·dy).
+            const double y = (grid.rows - static_cast<double>(r) - 0.5) * grid.dy_um();
             for (int c = 0; c < grid.cols; ++c) {
-                const double x = (c + 0.5) * grid.texel_um;
+                const double x = (c + 0.5) * grid.dx_um();
                 heights[r * grid.cols + c] =
                     static_cast<float>(parameters.amplitude_um * std::sin(wavenumber * (x * cos_angle + y * sin_angle)));
             }

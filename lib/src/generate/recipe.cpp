@@ -15,6 +15,7 @@
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/core/units.hpp"
+#include "glintscope/surface/square_texels.hpp"
 
 namespace glintscope {
 namespace {
@@ -119,7 +120,17 @@ const std::vector<KeyBinding>& bindings() {
         {{"cols", RecipeValueType::integer, "", "grid columns (along x)", kAllKinds},
          [](Recipe& r, const std::string& text) { r.grid.cols = parse_side(text); },
          [](const Recipe& r) { return std::to_string(r.grid.cols); }},
-        length_key("texel", "sample spacing dx", kAllKinds, [](Recipe& r) -> double& { return r.grid.texel_um; }),
+        length_key("texel", "sample spacing dx (along x; also dy unless texel_y is given)", kAllKinds,
+                   [](Recipe& r) -> double& { return r.grid.texel_um; }),
+        // Read back as the effective dy, so a recipe written out and read again keeps its grid.
+        {{"texel_y", RecipeValueType::length, "um", "sample spacing dy along y, for rectangular texels (as texel unless given)",
+          kAllKinds},
+         [](Recipe& r, const std::string& text) {
+             r.grid.texel_y_um = parse_length_um(text);
+             if (!(r.grid.texel_y_um > 0.0) || !std::isfinite(r.grid.texel_y_um))  // 0 would mean "square"
+                 throw Error("must be a positive length, got '" + text + "'");
+         },
+         [](const Recipe& r) { return shortest_text(r.grid.dy_um()); }},
         {{"seed", RecipeValueType::integer, "", "random seed (same seed, same surface on any thread count)",
           kRandomKinds},
          [](Recipe& r, const std::string& text) { r.seed = parse_unsigned(text); },
@@ -215,6 +226,11 @@ void validate_grid(const GridSpec& grid) {
                     shortest_text(std::ceil(8.0 * grid.rows * double(grid.cols) / 1e8) / 10.0) +
                     " GB: 4 bytes of height and 4 of spectrum per sample)");
     require_positive("texel", grid.texel_um);
+    if (grid.texel_y_um != 0.0) require_positive("texel_y", grid.texel_y_um);
+    const double aspect = std::max(grid.dx_um(), grid.dy_um()) / std::min(grid.dx_um(), grid.dy_um());
+    if (aspect > kMaxTexelAspect)
+        throw Error("texel " + format_length(grid.dx_um()) + " and texel_y " + format_length(grid.dy_um()) +
+                    " differ by more than " + shortest_text(kMaxTexelAspect) + " times");
 }
 
 void validate_gaussian(const Recipe& recipe) {
@@ -232,8 +248,8 @@ void validate_gaussian(const Recipe& recipe) {
     const double s = std::sin(g.orientation_rad);
     const double extent_x = std::hypot(g.correlation_length_x_um * c, g.correlation_length_y_um * s);
     const double extent_y = std::hypot(g.correlation_length_x_um * s, g.correlation_length_y_um * c);
-    const double width = recipe.grid.cols * recipe.grid.texel_um;
-    const double height = recipe.grid.rows * recipe.grid.texel_um;
+    const double width = recipe.grid.width_um();
+    const double height = recipe.grid.height_um();
     if (extent_x > width || extent_y > height)
         throw Error("correlation lengths (" + format_length(g.correlation_length_x_um) + ", " +
                     format_length(g.correlation_length_y_um) + ") exceed the " + format_length(width) + " x " +
@@ -244,7 +260,7 @@ void validate_scratches(const Recipe& recipe) {
     const ScratchParameters& s = recipe.scratches;
     if (!(s.density_per_mm2 >= 0.0) || !std::isfinite(s.density_per_mm2))
         throw Error("scratch_density must be a non-negative number per mm^2");
-    const double area_mm2 = recipe.grid.cols * recipe.grid.rows * recipe.grid.texel_um * recipe.grid.texel_um * 1e-6;
+    const double area_mm2 = recipe.grid.width_um() * recipe.grid.height_um() * 1e-6;
     if (s.density_per_mm2 * area_mm2 > kMaxScratches)
         throw Error("scratch_density " + shortest_text(s.density_per_mm2) + " per mm^2 asks for more than 10^6 scratches");
     require_range("scratch_depth_min", s.depth_min_um, "scratch_depth_max", s.depth_max_um);
@@ -257,9 +273,14 @@ void validate_grating(const Recipe& recipe) {
     require_positive("period", g.period_um);
     require_positive("amplitude", g.amplitude_um);
     if (!std::isfinite(g.angle_rad)) throw Error("angle must be a finite angle");
-    if (g.period_um < 2.0 * recipe.grid.texel_um)
+    // Two samples per period along the axis the grating varies along (or the longer texel side
+    // when it is oblique), so its wave vector lies inside the sampling band.
+    const double spacing = std::fabs(std::sin(g.angle_rad)) < 1e-12   ? recipe.grid.dx_um()
+                           : std::fabs(std::cos(g.angle_rad)) < 1e-12 ? recipe.grid.dy_um()
+                                                                      : std::max(recipe.grid.dx_um(), recipe.grid.dy_um());
+    if (g.period_um < 2.0 * spacing)
         throw Error("period (" + format_length(g.period_um) + ") is shorter than two texels (" +
-                    format_length(2.0 * recipe.grid.texel_um) + "); the grating cannot be sampled");
+                    format_length(2.0 * spacing) + "); the grating cannot be sampled");
 }
 
 void validate_cd(const Recipe& recipe) {
@@ -270,8 +291,8 @@ void validate_cd(const Recipe& recipe) {
     require_positive("track_spacing", cd.track_spacing_um);
     if (!(cd.bump_density_per_um > 0.0) || !std::isfinite(cd.bump_density_per_um))
         throw Error("bump_density must be a positive number per um, got " + shortest_text(cd.bump_density_per_um));
-    const double width = recipe.grid.cols * recipe.grid.texel_um;
-    const double height = recipe.grid.rows * recipe.grid.texel_um;
+    const double width = recipe.grid.width_um();
+    const double height = recipe.grid.height_um();
     if (cd.bump_width_um > cd.track_spacing_um)
         throw Error("bump_width (" + format_length(cd.bump_width_um) + ") is wider than track_spacing (" +
                     format_length(cd.track_spacing_um) + ")");
@@ -431,8 +452,8 @@ void validate_recipe(const Recipe& recipe) {
 }
 
 std::string seamless_warning(const Recipe& recipe) {
-    const double width = recipe.grid.cols * recipe.grid.texel_um;
-    const double height = recipe.grid.rows * recipe.grid.texel_um;
+    const double width = recipe.grid.width_um();
+    const double height = recipe.grid.height_um();
     if (recipe.kind == "grating") {
         const double periods_x = width * std::cos(recipe.grating.angle_rad) / recipe.grating.period_um;
         const double periods_y = height * std::sin(recipe.grating.angle_rad) / recipe.grating.period_um;

@@ -112,8 +112,8 @@ bool strip_x_range(const ScratchImage& image, double y0, double y1, double& x_mi
 }  // namespace
 
 std::vector<Scratch> place_scratches(const GridSpec& grid, const ScratchParameters& parameters, std::uint64_t seed) {
-    const double width = grid.cols * grid.texel_um;
-    const double height = grid.rows * grid.texel_um;
+    const double width = grid.width_um();
+    const double height = grid.height_um();
     const auto count = static_cast<std::size_t>(std::llround(parameters.density_per_mm2 * width * height * 1e-6));
     const CounterRng rng(seed, kStreamScratches);
     constexpr std::uint64_t kDraws = 8;  // random numbers per scratch
@@ -138,23 +138,24 @@ std::vector<Scratch> place_scratches(const GridSpec& grid, const ScratchParamete
 }
 
 void carve_scratches(Heightfield& field, const std::vector<Scratch>& scratches) {
-    const double dx = field.texel_um;
+    const double dx = field.dx_um();
+    const double dy = field.dy_um();
     const int rows = field.rows;
     const int cols = field.cols;
-    const std::vector<ScratchImage> images = periodic_images(scratches, cols * dx, rows * dx);
+    const std::vector<ScratchImage> images = periodic_images(scratches, cols * dx, rows * dy);
     parallel_for(rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
-        // Rows begin..end−1 span y ∈ [(R − end)·dx, (R − begin)·dx].
-        const double chunk_y0 = (rows - static_cast<double>(end)) * dx;
-        const double chunk_y1 = (rows - static_cast<double>(begin)) * dx;
+        // Rows begin..end−1 span y ∈ [(R − end)·dy, (R − begin)·dy].
+        const double chunk_y0 = (rows - static_cast<double>(end)) * dy;
+        const double chunk_y1 = (rows - static_cast<double>(begin)) * dy;
         std::vector<float> depth((end - begin) * cols, 0.0f);
         for (const ScratchImage& image : images) {
             if (image.y_max <= chunk_y0 || image.y_min >= chunk_y1 || image.x_max <= 0.0 || image.x_min >= cols * dx)
                 continue;
             for (std::size_t r = begin; r < end; ++r) {
-                const double y0 = (rows - static_cast<double>(r) - 1.0) * dx;
+                const double y0 = (rows - static_cast<double>(r) - 1.0) * dy;
                 double x_min = 0.0;
                 double x_max = 0.0;
-                if (!strip_x_range(image, y0, y0 + dx, x_min, x_max)) continue;
+                if (!strip_x_range(image, y0, y0 + dy, x_min, x_max)) continue;
                 const int c0 = std::max(0, static_cast<int>(std::floor(x_min / dx)));
                 const int c1 = std::min(cols - 1, static_cast<int>(std::floor(x_max / dx)));
                 for (int c = c0; c <= c1; ++c) {
@@ -162,7 +163,7 @@ void carve_scratches(Heightfield& field, const std::vector<Scratch>& scratches) 
                     for (int sy = 0; sy < kSubsamples; ++sy)
                         for (int sx = 0; sx < kSubsamples; ++sx)
                             sum += groove_depth(image, (c + (sx + 0.5) / kSubsamples) * dx,
-                                                y0 + (sy + 0.5) / kSubsamples * dx);
+                                                y0 + (sy + 0.5) / kSubsamples * dy);
                     float& texel = depth[(r - begin) * cols + c];
                     texel = std::max(texel, static_cast<float>(sum / (kSubsamples * kSubsamples)));
                 }

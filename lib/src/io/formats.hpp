@@ -51,6 +51,18 @@ void check_grid_size(long long cols, long long rows, const std::string& path);
 // kMaxTexelAspect apart are refused naming `path`.
 void set_read_spacing(Heightfield& field, double dx_um, double stored_dx, double stored_dy, const std::string& path);
 
+// The spacing a reader gives its field, after its provenance is set: the declared one when
+// LoadOptions::texel_um is given (recorded in the provenance, beside the file's own spacing where
+// it states one in a known unit); else the file's, rectangular when its dy differs from its dx
+// by more than square_tolerance of it (set_read_spacing).
+struct FileSpacing {
+    std::optional<double> dx, dy;  // as the file states them, in its own length unit
+    double square_tolerance = 0.0;
+    bool in_um = true;             // whether that unit is known (and dx, dy converted to µm)
+};
+void apply_spacing(Heightfield& field, const LoadOptions& options, double dx_um, const FileSpacing& file,
+                   const std::string& path);
+
 // Readers return heights in µm with the texel, provenance and units_assumed filled in; the
 // caller validates the result.
 Heightfield read_npy(const std::string& path, const LoadOptions& options);

@@ -111,7 +111,6 @@ Heightfield read_gwyddion(const std::string& path, const LoadOptions& options) {
     StoredUnits stored;
     if (xy_unit == "m") stored.texel_um = dx_um;
     if (z_unit == "m") stored.height_unit = LengthUnit::m;
-    const bool rectangular = !options.texel_um && std::fabs(dx_um - dy_um) > 1e-6 * dx_um;
     const HeightConversion conversion = resolve_units(stored, options, path);
 
     Heightfield field = make_heightfield(rows, cols, conversion.texel_um);
@@ -124,7 +123,7 @@ Heightfield read_gwyddion(const std::string& path, const LoadOptions& options) {
     g_free(module);
     field.provenance["gwyddion:channel"] = channel_title(data.container, id);
     field.provenance["gwyddion:units"] = "lateral '" + xy_unit + "', heights '" + z_unit + "'";
-    if (rectangular) set_read_spacing(field, conversion.texel_um, dx_um, dy_um, path);
+    apply_spacing(field, options, conversion.texel_um, {dx_um, dy_um, 1e-6, xy_unit == "m"}, path);
     return field;
 }
 

@@ -77,6 +77,26 @@ void set_read_spacing(Heightfield& field, double dx_um, double stored_dx, double
     set_spacing(field, dx_um, dy_um);
 }
 
+void apply_spacing(Heightfield& field, const LoadOptions& options, double dx_um, const FileSpacing& file,
+                   const std::string& path) {
+    if (!options.texel_um) {
+        if (file.dx && file.dy && std::fabs(*file.dy - *file.dx) > file.square_tolerance * *file.dx)
+            set_read_spacing(field, dx_um, *file.dx, *file.dy, path);
+        return;
+    }
+    const double declared_dx = *options.texel_um;
+    const double declared_dy = options.texel_y_um.value_or(declared_dx);
+    set_read_spacing(field, declared_dx, declared_dx, declared_dy, path);
+    field.provenance["spacing.declared"] = texel_text(field);
+    if (file.dx && file.in_um) {
+        Heightfield stated;
+        set_spacing(stated, *file.dx, file.dy.value_or(*file.dx));
+        field.provenance["spacing.file"] = texel_text(stated);
+    } else {
+        field.provenance.erase("spacing.file");  // a copy's record of an earlier file
+    }
+}
+
 void check_grid_size(long long cols, long long rows, const std::string& path) {
     const std::string size = std::to_string(cols) + " x " + std::to_string(rows);
     if (cols <= 0 || rows <= 0) throw read_error(path, "the grid is empty (" + size + " samples)");
@@ -86,8 +106,10 @@ void check_grid_size(long long cols, long long rows, const std::string& path) {
 }
 
 HeightConversion resolve_units(const StoredUnits& stored, const LoadOptions& options, const std::string& path) {
-    if (options.texel_um && !(*options.texel_um > 0.0 && std::isfinite(*options.texel_um)))
+    if ((options.texel_um && !(*options.texel_um > 0.0 && std::isfinite(*options.texel_um))) ||
+        (options.texel_y_um && !(*options.texel_y_um > 0.0 && std::isfinite(*options.texel_y_um))))
         throw read_error(path, "the texel size must be a positive length");
+    if (options.texel_y_um && !options.texel_um) throw read_error(path, "a texel y spacing needs the x spacing too");
     if (!std::isfinite(options.height_scale) || options.height_scale == 0.0)
         throw read_error(path, "the height scale must be finite and non-zero");
     const std::optional<double> texel = options.texel_um ? options.texel_um : stored.texel_um;

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include <OpenImageIO/imageio.h>
@@ -30,11 +31,13 @@
 #include <unistd.h>
 
 #include "formats.hpp"
+#include "glintscope/core/parallel.hpp"
 #include "glintscope/core/text_format.hpp"
 
 namespace glintscope {
 namespace {
 
+constexpr std::size_t kSamplesPerChunk = std::size_t{1} << 16;
 constexpr std::string_view kTexelAttribute = "glintscope:texel_um";
 constexpr std::string_view kTexelYAttribute = "glintscope:texel_y_um";
 constexpr std::string_view kHeightUnitAttribute = "glintscope:height_unit";
@@ -114,13 +117,24 @@ Provenance header_provenance(const OIIO::ImageSpec& spec) {
 template <typename Stored>
 void read_channel(OIIO::ImageInput& input, int channel, OIIO::TypeDesc type, const HeightConversion& conversion,
                   Heightfield& field, const std::string& path) {
-    std::vector<Stored> stored(field.size());
+    // Floats are read straight into the heights and converted in place: no second copy of a
+    // large field.
+    std::vector<Stored> copy;
+    Stored* stored = nullptr;
+    if constexpr (std::is_same_v<Stored, float>) {
+        stored = field.heights_um.data();
+    } else {
+        copy.resize(field.size());
+        stored = copy.data();
+    }
     // Some readers (TIFF) report unreadable strips only as error text and fill them with zeros.
-    const bool read = input.read_image(0, 0, channel, channel + 1, type, stored.data());
+    const bool read = input.read_image(0, 0, channel, channel + 1, type, stored);
     const std::string problem = input.geterror();
     if (!read || !problem.empty())
         throw read_error(path, "the image data is corrupt or truncated (" + one_line(problem) + ")");
-    for (std::size_t i = 0; i < stored.size(); ++i) field.heights_um[i] = conversion.to_um(stored[i]);
+    parallel_for(field.size(), kSamplesPerChunk, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) field.heights_um[i] = conversion.to_um(stored[i]);
+    });
 }
 
 void read_pixels(OIIO::ImageInput& input, int channel, const HeightConversion& conversion, Heightfield& field,
@@ -253,13 +267,12 @@ Heightfield read_image(const std::string& path, const LoadOptions& options) {
     const HeightConversion conversion = resolve_units(header_units(spec, path), options, path);
 
     Heightfield field = make_heightfield(spec.height, spec.width, conversion.texel_um);
-    // dy scales with dx (a --texel given by the user declares the texels square).
-    const std::optional<double> stored_dx = header_length(spec, kTexelAttribute, path);
-    if (const std::optional<double> stored_dy = header_length(spec, kTexelYAttribute, path);
-        stored_dy && stored_dx && !options.texel_um)
-        set_read_spacing(field, conversion.texel_um, *stored_dx, *stored_dy, path);
     field.units_assumed = conversion.units_assumed;
     field.provenance = header_provenance(spec);
+    // glintscope's EXR states dy only when it differs from dx.
+    const std::optional<double> stored_dx = header_length(spec, kTexelAttribute, path);
+    const std::optional<double> stored_dy = header_length(spec, kTexelYAttribute, path);
+    apply_spacing(field, options, conversion.texel_um, {stored_dx, stored_dy ? stored_dy : stored_dx, 0.0}, path);
     read_pixels(*input, channel, conversion, field, path);
     return field;
 }

@@ -258,6 +258,7 @@ Heightfield read_npy(const std::string& path, const LoadOptions& options) {
     const HeightConversion conversion = resolve_units({}, options, path);
     Heightfield field = make_heightfield(static_cast<int>(rows), static_cast<int>(cols), conversion.texel_um);
     field.units_assumed = conversion.units_assumed;
+    apply_spacing(field, options, conversion.texel_um, {}, path);  // NPY states no spacing
     convert_heights(in, type, header.fortran_order, conversion, field, path);
     return field;
 }

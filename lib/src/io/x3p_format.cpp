@@ -825,9 +825,6 @@ Heightfield read_x3p(const std::string& path, const LoadOptions& options) {
     StoredUnits stored;
     stored.texel_um = dx_um;
     stored.height_unit = LengthUnit::m;
-    // A --texel given by the user declares the texels square; otherwise spacings that differ
-    // beyond what the file can state are kept as they are (rectangular texels).
-    const bool rectangular = !options.texel_um && std::fabs(*dx_um - *dy_um) > square_tolerance * *dx_um;
     const HeightConversion conversion = resolve_units(stored, options, path);
 
     const int rows = static_cast<int>(layout.size_y);
@@ -848,7 +845,8 @@ Heightfield read_x3p(const std::string& path, const LoadOptions& options) {
         const auto i = static_cast<int>(k % cols);
         field.at(rows - 1 - j, i) = std::isnan(metres) ? std::numeric_limits<float>::quiet_NaN() : conversion.to_um(metres);
     });
-    if (rectangular) set_read_spacing(field, conversion.texel_um, *dx_um, *dy_um, path);
+    // Spacings that differ beyond what the file can state are kept as they are (rectangular texels).
+    apply_spacing(field, options, conversion.texel_um, {dx_um, dy_um, square_tolerance}, path);
     return field;
 }
 

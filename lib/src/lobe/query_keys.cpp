@@ -109,15 +109,22 @@ const std::vector<KeyBinding>& bindings() {
              if (!q.source.load.height_unit) return std::nullopt;
              return to_string(*q.source.load.height_unit);
          }},
-        {{"texel", "LENGTH", "sample spacing, overriding the file's (default: the file's, else 1 um)", ""},
+        {{"texel", "LENGTH[xLENGTH]",
+          "declared sample spacing, overriding the file's: 0.5um, or 1x2um for dx by dy (default: the file's, else 1 "
+          "um)",
+          ""},
          [](LobeQuery& q, const std::string& t) {
-             const double texel = parse_length_um(t);
-             if (!(texel > 0.0)) throw Error("the texel size must be positive, got '" + t + "'");
-             q.source.load.texel_um = texel;
+             const BoxSides spacing = parse_box_sides(t);
+             if (!(spacing.width_um > 0.0) || !(spacing.height_um > 0.0))
+                 throw Error("the texel size must be positive, got '" + t + "'");
+             q.source.load.texel_um = spacing.width_um;
+             q.source.load.texel_y_um.reset();
+             if (spacing.height_um != spacing.width_um) q.source.load.texel_y_um = spacing.height_um;
          },
          [](const LobeQuery& q) -> std::optional<std::string> {
              if (!q.source.load.texel_um) return std::nullopt;
-             return shortest_text(*q.source.load.texel_um);
+             if (!q.source.load.texel_y_um) return shortest_text(*q.source.load.texel_um);
+             return shortest_text(*q.source.load.texel_um) + "x" + shortest_text(*q.source.load.texel_y_um);
          }},
         {{"height_scale", "K", "multiply the heights by K after the unit conversion (default 1)", ""},
          [](LobeQuery& q, const std::string& t) { q.source.load.height_scale = parse_number(t); },

@@ -268,13 +268,12 @@ double texture_direction_deg(const Heightfield& field, double mean, double dx, d
 }  // namespace
 
 ArealParameters compute_areal_parameters(const Heightfield& field, double threshold) {
-    validate(field, "areal parameters", /*allow_missing=*/true);
+    const ValidHeights valid = valid_heights(field, "areal parameters");
     check_threshold(threshold);
     const bool periodic = field.periodic;
     if (!periodic && (field.rows < 3 || field.cols < 3))
         throw Error("areal parameters need at least 3 x 3 samples (slopes need both neighbours)");
     const double dx = field.dx_um(), dy = field.dy_um();
-    const ValidHeights valid = valid_heights(field, "areal parameters");
     const double mean = valid.mean;
     const Deviations d = deviations(field, mean, dx, dy);
     const double n = static_cast<double>(valid.count);

@@ -6,42 +6,10 @@
 #include "glintscope/core/error.hpp"
 
 namespace glintscope::field_transforms {
-namespace {
-
-struct Moments {
-    std::size_t valid = 0;
-    double sum = 0.0;
-    float lowest = std::numeric_limits<float>::infinity();
-    float highest = -std::numeric_limits<float>::infinity();
-};
-
-}  // namespace
-
-ValidHeights valid_heights(const Heightfield& field, const char* what) {
-    const std::size_t chunks = (field.rows + kRowsPerChunk - 1) / kRowsPerChunk;
-    std::vector<Moments> partial(chunks);
-    parallel_for(field.rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
-        Moments sums;
-        for (std::size_t i = begin * field.cols; i < end * field.cols; ++i) {
-            const double h = field.heights_um[i];
-            if (std::isnan(h)) continue;
-            ++sums.valid;
-            sums.sum += h;
-            sums.lowest = std::min(sums.lowest, field.heights_um[i]);
-            sums.highest = std::max(sums.highest, field.heights_um[i]);
-        }
-        partial[begin / kRowsPerChunk] = sums;
-    });
-    Moments total;
-    for (const Moments& sums : partial) {
-        total.valid += sums.valid;
-        total.sum += sums.sum;
-        total.lowest = std::min(total.lowest, sums.lowest);
-        total.highest = std::max(total.highest, sums.highest);
-    }
-    if (total.valid < 2) throw Error(std::string(what) + " need at least 2 valid heights");
-    return {total.valid, total.sum / static_cast<double>(total.valid), total.lowest, total.highest,
-            total.valid < field.size()};
+ValidHeights valid_heights(const Heightfield& field, const std::string& what) {
+    const ValidHeights valid = validated_heights(field, what, /*allow_missing=*/true);
+    if (valid.count < 2) throw Error(what + " need at least 2 valid heights");
+    return valid;
 }
 
 Autocorrelation::Autocorrelation(const Heightfield& field, const ValidHeights& valid) : field_(field) {

@@ -12,6 +12,7 @@
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/surface/areal_parameters.hpp"
 #include "glintscope/surface/heightfield.hpp"
+#include "surface/valid_heights.hpp"
 
 namespace glintscope::field_transforms {
 
@@ -26,15 +27,8 @@ inline int neighbour(int i, int offset, int n, bool periodic) {
     return periodic ? (j + n) % n : -1;
 }
 
-struct ValidHeights {
-    std::size_t count = 0;  // the valid (non-NaN) heights
-    double mean = 0.0;
-    double lowest = 0.0, highest = 0.0;
-    bool missing = false;   // count < field.size()
-};
-
-// One pass over the heights; throws Error with fewer than 2 valid ones (`what` names the caller).
-ValidHeights valid_heights(const Heightfield& field, const char* what);
+// validated_heights(field, what, allow_missing = true), and at least 2 valid heights.
+ValidHeights valid_heights(const Heightfield& field, const std::string& what);
 
 // ---- 2-D transforms as batches of 1-D ones (fixed chunks: thread-count independent) ----
 
@@ -56,11 +50,12 @@ struct HalfSpectrum {
 
 // Rows 0..filled_rows−1 from fill_row(r, out) (out has padded_cols floats, pre-zeroed), the rest
 // zero; each row transformed in place (r2c), then each column transformed (c2c forward) and
-// handed to column_op(k, column, rows, block_index), which may change it and whose changes are
-// stored back.
+// handed to column_op(k, column, rows, block_index), which may change it. The columns are stored
+// back on the rows `stored_rows` lists (sorted), the only rows of the result that hold anything:
+// none when column_op only reads. The zero rows are neither transformed nor read.
 template <typename FillRow, typename ColumnOp>
 HalfSpectrum forward_2d(int padded_rows, int padded_cols, int filled_rows, const FillRow& fill_row,
-                        const ColumnOp& column_op) {
+                        const ColumnOp& column_op, const std::vector<int>& stored_rows = {}) {
     HalfSpectrum spectrum;
     spectrum.rows = padded_rows;
     spectrum.cols = padded_cols;
@@ -71,11 +66,10 @@ HalfSpectrum forward_2d(int padded_rows, int padded_cols, int filled_rows, const
         return fftwf_plan_dft_r2c_1d(padded_cols, reinterpret_cast<float*>(plan_row.get()), plan_row.get(),
                                      FFTW_ESTIMATE);
     });
-    parallel_for(padded_rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+    parallel_for(filled_rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
         for (std::size_t r = begin; r < end; ++r) {
             float* row = spectrum.real_row(static_cast<int>(r));
             std::fill(row, row + 2 * spectrum.stride, 0.0f);
-            if (static_cast<int>(r) >= filled_rows) continue;
             fill_row(static_cast<int>(r), row);
             fftwf_execute_dft_r2c(row_plan.get(), row, reinterpret_cast<fftwf_complex*>(row));
         }
@@ -88,18 +82,21 @@ HalfSpectrum forward_2d(int padded_rows, int padded_cols, int filled_rows, const
     parallel_for(bins, kColumnsPerBlock, [&](std::size_t begin, std::size_t end) {
         const std::size_t count = end - begin;
         fftwf_complex* block = thread_scratch<fftwf_complex>(0, count * padded_rows);
-        for (int r = 0; r < padded_rows; ++r)
+        for (int r = 0; r < filled_rows; ++r)
             for (std::size_t k = begin; k < end; ++k) {
                 const fftwf_complex& value = spectrum.data[r * spectrum.stride + k];
                 block[(k - begin) * padded_rows + r][0] = value[0];
                 block[(k - begin) * padded_rows + r][1] = value[1];
             }
+        for (std::size_t k = 0; k < count; ++k)
+            std::fill(reinterpret_cast<float*>(block + k * padded_rows + filled_rows),
+                      reinterpret_cast<float*>(block + (k + 1) * padded_rows), 0.0f);
         for (std::size_t k = begin; k < end; ++k) {
             fftwf_complex* column = block + (k - begin) * padded_rows;
             fftwf_execute_dft(column_plan.get(), column, column);
             column_op(k, column, padded_rows, begin / kColumnsPerBlock);
         }
-        for (int r = 0; r < padded_rows; ++r)
+        for (const int r : stored_rows)
             for (std::size_t k = begin; k < end; ++k) {
                 fftwf_complex& value = spectrum.data[r * spectrum.stride + k];
                 value[0] = block[(k - begin) * padded_rows + r][0];
@@ -118,6 +115,11 @@ HalfSpectrum autocorrelation_2d(int padded_rows, int padded_cols, int filled_row
     const FftwfPlan inverse_column_plan([&] {
         return fftwf_plan_dft_1d(padded_rows, plan_column.get(), plan_column.get(), FFTW_BACKWARD, FFTW_ESTIMATE);
     });
+    // Only the rows of lags −max_row_lag..max_row_lag are stored and transformed back.
+    std::vector<int> needed;
+    for (int lag = -max_row_lag; lag <= max_row_lag; ++lag) needed.push_back((lag + padded_rows) % padded_rows);
+    std::sort(needed.begin(), needed.end());
+    needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
     HalfSpectrum spectrum = forward_2d(
         padded_rows, padded_cols, filled_rows, fill_row,
         [&](std::size_t, fftwf_complex* column, int rows, std::size_t) {
@@ -126,17 +128,13 @@ HalfSpectrum autocorrelation_2d(int padded_rows, int padded_cols, int filled_row
                 column[r][1] = 0.0f;
             }
             fftwf_execute_dft(inverse_column_plan.get(), column, column);
-        });
+        },
+        needed);
     auto plan_row = make_fftw_buffer<fftwf_complex>(spectrum.stride);
     const FftwfPlan inverse_row_plan([&] {
         return fftwf_plan_dft_c2r_1d(padded_cols, plan_row.get(), reinterpret_cast<float*>(plan_row.get()),
                                      FFTW_ESTIMATE);
     });
-    // Only the rows of lags −max_row_lag..max_row_lag are read.
-    std::vector<int> needed;
-    for (int lag = -max_row_lag; lag <= max_row_lag; ++lag) needed.push_back((lag + padded_rows) % padded_rows);
-    std::sort(needed.begin(), needed.end());
-    needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
     parallel_for(needed.size(), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
             fftwf_complex* row = spectrum.data.get() + static_cast<std::size_t>(needed[i]) * spectrum.stride;

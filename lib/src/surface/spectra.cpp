@@ -33,8 +33,7 @@ std::vector<float> window_of(int n, bool periodic) {
 }  // namespace
 
 PowerSpectralDensity compute_power_spectral_density(const Heightfield& field) {
-    validate(field, "power spectral density", /*allow_missing=*/true);
-    const double mean = valid_heights(field, "the power spectral density").mean;
+    const double mean = valid_heights(field, "power spectral density").mean;
     const int rows = field.rows, cols = field.cols;
     const double dx = field.dx_um(), dy = field.dy_um();
     const std::vector<float> window_x = window_of(cols, field.periodic), window_y = window_of(rows, field.periodic);
@@ -114,9 +113,8 @@ PowerSpectralDensity compute_power_spectral_density(const Heightfield& field) {
 }
 
 AutocorrelationCurves compute_autocorrelation_curves(const Heightfield& field, double threshold) {
-    validate(field, "autocorrelation", /*allow_missing=*/true);
+    const ValidHeights valid = valid_heights(field, "autocorrelation");
     check_threshold(threshold);
-    const ValidHeights valid = valid_heights(field, "the autocorrelation");
     if (valid.lowest == valid.highest) throw Error("the autocorrelation needs heights that vary (Sq = 0)");
     const double dx = field.dx_um(), dy = field.dy_um();
     const Autocorrelation acf(field, valid);

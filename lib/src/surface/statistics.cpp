@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "numerics/fftw_plans.hpp"
+#include "surface/valid_heights.hpp"
 #include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
@@ -15,13 +16,6 @@ constexpr std::size_t kRowsPerChunk = 32;
 constexpr std::size_t kColumnsPerChunk = 128;
 constexpr int kTileRows = 16;
 constexpr double kNotANumber = std::numeric_limits<double>::quiet_NaN();
-
-struct MomentSums {
-    std::size_t valid = 0;
-    double sum = 0.0;
-    double min = std::numeric_limits<double>::infinity();
-    double max = -std::numeric_limits<double>::infinity();
-};
 
 struct DeviationSums {
     double squares = 0.0;
@@ -38,31 +32,6 @@ struct PowerSums {
     std::vector<double> heights;
     std::vector<double> mask;
 };
-
-MomentSums moments(const Heightfield& field) {
-    const std::size_t chunks = (field.rows + kRowsPerChunk - 1) / kRowsPerChunk;
-    std::vector<MomentSums> partial(chunks);
-    parallel_for(field.rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
-        MomentSums sums;  // a local, so the loop keeps it in registers
-        for (std::size_t i = begin * field.cols; i < end * field.cols; ++i) {
-            const double h = field.heights_um[i];
-            if (std::isnan(h)) continue;
-            ++sums.valid;
-            sums.sum += h;
-            sums.min = std::min(sums.min, h);
-            sums.max = std::max(sums.max, h);
-        }
-        partial[begin / kRowsPerChunk] = sums;
-    });
-    MomentSums total;
-    for (const MomentSums& sums : partial) {
-        total.valid += sums.valid;
-        total.sum += sums.sum;
-        total.min = std::min(total.min, sums.min);
-        total.max = std::max(total.max, sums.max);
-    }
-    return total;
-}
 
 // Height deviations and central-difference slopes (periodic; a slope counts only where both
 // neighbours are valid).
@@ -115,7 +84,9 @@ DeviationSums deviations(const Heightfield& field, double mean) {
     return total;
 }
 
-// Sums |FFT|² over `line_count` lines of length `length`. fill(begin, end, z, m, pitch) writes the
+// Sums |FFT|² over `line_count` lines of length `length`, each line transformed in single
+// precision (its power carries ~7 digits, beyond what a 1/e length needs) and summed in double.
+// fill(begin, end, z, m, pitch) writes the
 // mean-removed, zero-filled heights and (when m is not null) the mask of lines begin..end−1 into z
 // and m, line i at offset (i − begin)·pitch. Lines are processed in fixed chunks with one shared plan; partial sums
 // are combined in chunk order, so the result does not depend on the thread count.
@@ -125,11 +96,11 @@ PowerSums line_power_sums(std::size_t line_count, int length, std::size_t lines_
     const std::size_t bins = static_cast<std::size_t>(length) / 2 + 1;
     // Lines start at multiples of 32 bytes, the alignment of the planning arrays; the extra 64 bytes
     // keep lines of power-of-two length from mapping onto the same cache sets while gathering.
-    const std::size_t pitch = ((static_cast<std::size_t>(length) + 3) & ~std::size_t{3}) + 8;
-    auto plan_input = make_fftw_buffer<double>(pitch);
-    auto plan_output = make_fftw_buffer<fftw_complex>(bins);
-    const FftwPlan plan([&] {
-        return fftw_plan_dft_r2c_1d(length, plan_input.get(), plan_output.get(), FFTW_ESTIMATE);
+    const std::size_t pitch = ((static_cast<std::size_t>(length) + 7) & ~std::size_t{7}) + 16;
+    auto plan_input = make_fftw_buffer<float>(pitch);
+    auto plan_output = make_fftw_buffer<fftwf_complex>(bins);
+    const FftwfPlan plan([&] {
+        return fftwf_plan_dft_r2c_1d(length, plan_input.get(), plan_output.get(), FFTW_ESTIMATE);
     });
     const std::size_t chunks = (line_count + lines_per_chunk - 1) / lines_per_chunk;
     std::vector<PowerSums> partial(chunks);
@@ -137,14 +108,14 @@ PowerSums line_power_sums(std::size_t line_count, int length, std::size_t lines_
         PowerSums& sums = partial[begin / lines_per_chunk];
         sums.heights.assign(bins, 0.0);
         if (with_mask) sums.mask.assign(bins, 0.0);
-        double* z = thread_scratch<double>(0, (end - begin) * pitch);
-        double* m = with_mask ? thread_scratch<double>(1, (end - begin) * pitch) : nullptr;
-        fftw_complex* spectrum = thread_scratch<fftw_complex>(2, bins);
+        float* z = thread_scratch<float>(0, (end - begin) * pitch);
+        float* m = with_mask ? thread_scratch<float>(1, (end - begin) * pitch) : nullptr;
+        fftwf_complex* spectrum = thread_scratch<fftwf_complex>(2, bins);
         fill(begin, end, z, m, pitch);
-        const auto accumulate = [&](double* line, std::vector<double>& into) {
-            fftw_execute_dft_r2c(plan.get(), line, spectrum);
+        const auto accumulate = [&](float* line, std::vector<double>& into) {
+            fftwf_execute_dft_r2c(plan.get(), line, spectrum);
             for (std::size_t k = 0; k < bins; ++k)
-                into[k] += spectrum[k][0] * spectrum[k][0] + spectrum[k][1] * spectrum[k][1];
+                into[k] += double(spectrum[k][0]) * spectrum[k][0] + double(spectrum[k][1]) * spectrum[k][1];
         };
         for (std::size_t line = 0; line < end - begin; ++line) {
             accumulate(z + line * pitch, sums.heights);
@@ -159,10 +130,10 @@ PowerSums line_power_sums(std::size_t line_count, int length, std::size_t lines_
     return total;
 }
 
-void store_deviation(float h, double mean, double* z, double* m, std::size_t at) {
+void store_deviation(float h, double mean, float* z, float* m, std::size_t at) {
     const bool valid = !std::isnan(h);
-    z[at] = valid ? h - mean : 0.0;
-    if (m) m[at] = valid ? 1.0 : 0.0;
+    z[at] = valid ? static_cast<float>(h - mean) : 0.0f;
+    if (m) m[at] = valid ? 1.0f : 0.0f;
 }
 
 // The inverse of a summed power spectrum: the summed periodic autocorrelation at lags 0..length−1.
@@ -223,14 +194,13 @@ CorrelationLength correlation_length(const PowerSums& sums, int length, double p
 }  // namespace
 
 SurfaceStatistics compute_statistics(const Heightfield& field) {
-    validate(field, "statistics", /*allow_missing=*/true);
-    const MomentSums moment = moments(field);
-    const double valid = static_cast<double>(moment.valid);
+    const ValidHeights heights = validated_heights(field, "statistics", /*allow_missing=*/true);
+    const double valid = static_cast<double>(heights.count);
     SurfaceStatistics stats;
-    stats.mean_um = moment.sum / valid;
-    stats.min_um = moment.min;
-    stats.max_um = moment.max;
-    stats.missing_count = field.size() - moment.valid;
+    stats.mean_um = heights.mean;
+    stats.min_um = heights.lowest;
+    stats.max_um = heights.highest;
+    stats.missing_count = field.size() - heights.count;
     stats.missing_fraction = static_cast<double>(stats.missing_count) / static_cast<double>(field.size());
 
     const DeviationSums deviation = deviations(field, stats.mean_um);
@@ -250,7 +220,7 @@ SurfaceStatistics compute_statistics(const Heightfield& field) {
     const int cols = field.cols;
     const PowerSums along_x = line_power_sums(
         rows, cols, kRowsPerChunk, with_mask,
-        [&](std::size_t begin, std::size_t end, double* z, double* m, std::size_t pitch) {
+        [&](std::size_t begin, std::size_t end, float* z, float* m, std::size_t pitch) {
             for (std::size_t r = begin; r < end; ++r)
                 for (int c = 0; c < cols; ++c) {
                     const std::size_t at = (r - begin) * pitch + c;
@@ -261,7 +231,7 @@ SurfaceStatistics compute_statistics(const Heightfield& field) {
     // each row segment is read once and each column buffer is written in runs.
     const PowerSums along_y = line_power_sums(
         cols, rows, kColumnsPerChunk, with_mask,
-        [&](std::size_t begin, std::size_t end, double* z, double* m, std::size_t pitch) {
+        [&](std::size_t begin, std::size_t end, float* z, float* m, std::size_t pitch) {
             for (int r0 = 0; r0 < rows; r0 += kTileRows)
                 for (std::size_t c = begin; c < end; ++c)
                     for (int r = r0; r < std::min(rows, r0 + kTileRows); ++r)

@@ -55,14 +55,14 @@ double correlation(CorrelationFunction kind, const GaussianFieldParameters& p, d
     return 0.0;
 }
 
-// Poisson summation: Σ_m S(k + m/dx) = dx² Σ_n C_periodic(n dx) e^{−i2π k·n dx}. The right side
-// is computed by brute force (C summed over periodic images, then a direct DFT) and compared with
-// the generator's filter over all bins. The relative L1 error Σ|ΔS|/ΣS bounds the error of the
-// synthesised field's covariance at every lag, as a fraction of σ_h².
-double folded_spectrum_error(const GaussianFieldParameters& p) {
-    const GridSpec grid{20, 24, 0.8};
-    const double width = grid.cols * grid.texel_um;
-    const double height = grid.rows * grid.texel_um;
+// Poisson summation: Σ_(m,n) S(kx + m/dx, ky + n/dy) = dx dy Σ_(q,p) C_periodic(q dx, p dy)
+// e^{−i2π(kx q dx + ky p dy)}. The right side is computed by brute force (C summed over periodic
+// images, then a direct DFT) and compared with the generator's filter over all bins. The relative
+// L1 error Σ|ΔS|/ΣS bounds the error of the synthesised field's covariance at every lag, as a
+// fraction of σ_h².
+double folded_spectrum_error(const GaussianFieldParameters& p, const GridSpec& grid = {20, 24, 0.8}) {
+    const double width = grid.width_um();
+    const double height = grid.height_um();
     std::vector<double> periodic(static_cast<std::size_t>(grid.rows) * grid.cols, 0.0);
     const auto signed_index = [](int index, int count) { return index <= count / 2 ? index : index - count; };
     for (int p_row = 0; p_row < grid.rows; ++p_row)
@@ -70,8 +70,8 @@ double folded_spectrum_error(const GaussianFieldParameters& p) {
             for (int a = -12; a <= 12; ++a)
                 for (int b = -12; b <= 12; ++b)
                     periodic[p_row * grid.cols + q] += correlation(
-                        p.correlation, p, signed_index(q, grid.cols) * grid.texel_um + a * width,
-                        -signed_index(p_row, grid.rows) * grid.texel_um + b * height);
+                        p.correlation, p, signed_index(q, grid.cols) * grid.dx_um() + a * width,
+                        -signed_index(p_row, grid.rows) * grid.dy_um() + b * height);
     const SampledPowerSpectrum spectrum(p, grid);
     double error = 0.0;
     double total = 0.0;
@@ -83,7 +83,7 @@ double folded_spectrum_error(const GaussianFieldParameters& p) {
                     dft += periodic[p_row * grid.cols + q] *
                            std::polar(1.0, -2.0 * kPi * (static_cast<double>(i * p_row) / grid.rows +
                                                          static_cast<double>(j * q) / grid.cols));
-            const double expected = grid.texel_um * grid.texel_um * dft.real();
+            const double expected = grid.dx_um() * grid.dy_um() * dft.real();
             error += std::fabs(spectrum.aliased(i, j) - expected);
             total += expected;
         }
@@ -94,6 +94,15 @@ TEST(CorrelationSpectrum, SeparableFoldingIsExact) {
     EXPECT_LT(folded_spectrum_error({CorrelationFunction::c1, 1.0, 1.5, 0.9, 0.0}), 1e-12);
     EXPECT_LT(folded_spectrum_error({CorrelationFunction::c3, 1.0, 1.5, 0.9, 0.0}), 1e-12);
     EXPECT_LT(folded_spectrum_error({CorrelationFunction::c1, 1.0, 2.0, 0.9, 0.4}), 1e-12);  // rotated C1
+}
+
+TEST(CorrelationSpectrum, FoldingIsPerAxisOnRectangularTexels) {
+    // dy = 2 dx: the reciprocal lattice is (m/dx, n/dy), the DFT bins j/(cols dx), i/(rows dy).
+    const GridSpec rectangular{20, 24, 0.6, 1.2};
+    EXPECT_LT(folded_spectrum_error({CorrelationFunction::c1, 1.0, 1.5, 1.8, 0.0}, rectangular), 1e-12);
+    EXPECT_LT(folded_spectrum_error({CorrelationFunction::c3, 1.0, 1.5, 1.8, 0.0}, rectangular), 1e-12);
+    EXPECT_LT(folded_spectrum_error({CorrelationFunction::c1, 1.0, 2.0, 1.8, 0.4}, rectangular), 1e-12);
+    EXPECT_LT(folded_spectrum_error({CorrelationFunction::c2, 1.0, 2.4, 3.2, 0.7}, rectangular), 5e-3);
 }
 
 TEST(CorrelationSpectrum, NonSeparableFoldingIsCloseToExact) {

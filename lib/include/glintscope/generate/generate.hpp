@@ -70,10 +70,18 @@ struct CdParameters {
     BumpOverlap overlap = BumpOverlap::add;
 };
 
+// Texels may be rectangular: every generator works in µm per axis, so the same recipe at 1 × 1 µm
+// and at 1 × 2 µm describes the same surface, sampled twice as coarsely along y.
 struct GridSpec {
     int rows = 1024;
     int cols = 1024;
-    double texel_um = 1.0;
+    double texel_um = 1.0;    // dx, along x (columns)
+    double texel_y_um = 0.0;  // dy, along y (rows); 0 means square texels (dy = dx)
+
+    double dx_um() const { return texel_um; }
+    double dy_um() const { return texel_y_um > 0.0 ? texel_y_um : texel_um; }
+    double width_um() const { return cols * dx_um(); }
+    double height_um() const { return rows * dy_um(); }
 };
 
 // kind: "isotropic", "brushed", "gaussian" (Gaussian random fields), "scratched" (scratches

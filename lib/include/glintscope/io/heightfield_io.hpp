@@ -20,7 +20,11 @@ namespace glintscope {
 struct LoadOptions {
     std::string channel;                     // image channel name or index; empty: Z, Y, R or the first
     std::optional<LengthUnit> height_unit;   // unit of the stored heights; texel = multiples of dx
-    std::optional<double> texel_um;          // overrides the file's sample spacing
+    // A declared sample spacing, overriding the file's (or the 1 µm default of files that state
+    // none): dx, and dy when it differs (rectangular texels). The field's provenance records that
+    // the spacing was declared ("spacing.declared") and what the file states ("spacing.file").
+    std::optional<double> texel_um;
+    std::optional<double> texel_y_um;        // only with texel_um
     double height_scale = 1.0;               // multiplies heights after unit conversion
     bool periodic = false;                   // the file holds one tile of a periodic surface
 };

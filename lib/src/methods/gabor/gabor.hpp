@@ -88,6 +88,9 @@ LobeImage gabor_lobe(const LobeQuery& query);
 // Point answers at any footprint of the query's heightfield (lobe/point_answers.hpp): eval by
 // GaborSurface, sample and pdf by the footprint's kernel mixture (gabor_sampling.hpp).
 PointAnswersAt gabor_point_field(const LobeQuery& query);
+// Point answers at the query's footprint, for make_bsdf: eval through the footprint's kernels
+// sorted by slope (gabor_slope_index.hpp), sample and pdf as above.
+PointAnswers gabor_point_answers(const LobeQuery& query);
 
 // The method-table entry: "gabor", Yan 2018 §4-5, brdf, the options of gabor_settings.
 MethodEntry gabor_method();

@@ -145,6 +145,50 @@ template <typename T>
     sum_im -= kept * (sin_phase * root_re + cos_phase * root_im);
 }
 
+// A second-order term from its prepared factors (ChirpFactors): u = v + a_k, q = uᵀAu,
+// w l² ξ2 det(M)^{−1/2} e^{−Re q} e^{−i2π(ξ3 H_k/λ + m_k·v + Im q/(2π))}, cut at its widened reach.
+template <typename T>
+[[gnu::always_inline]] inline void add_prepared_chirped_term(const T& px, const T& py, const T& height,
+                                                             const T& slope_x, const T& slope_y, const T& axx_re,
+                                                             const T& axx_im, const T& axy_re, const T& axy_im,
+                                                             const T& ayy_re, const T& ayy_im, const T& f_re,
+                                                             const T& f_im, const T& reach2,
+                                                             const TransformPoint& point, T& sum_re, T& sum_im) {
+    const T ux = point.vx + point.xi3_over_lambda * slope_x;  // v + a_k (Yan 2018 eq. 15)
+    const T uy = point.vy + point.xi3_over_lambda * slope_y;
+    const T xi2 = 1.0 - point.xi2_gx * slope_x - point.xi2_gy * slope_y;
+    const T ux2 = ux * ux;
+    const T uxy = 2.0 * ux * uy;
+    const T uy2 = uy * uy;
+    const T q_re = axx_re * ux2 + axy_re * uxy + ayy_re * uy2;
+    const T q_im = axx_im * ux2 + axy_im * uxy + ayy_im * uy2;
+    // As in add_chirped_term: e^{−25} stands for anything smaller inside the widened box.
+    const T amplitude = xi2 * gabor_math::exp_neg(min_of(q_re, T{} + 25.0));
+    T cos_phase;
+    T sin_phase;
+    gabor_math::cos_sin_turns(point.xi3_over_lambda * height + px * point.vx + py * point.vy + (0.5 / pi) * q_im,
+                              cos_phase, sin_phase);
+    const T kept = keep_inside(ux, uy, reach2, amplitude);
+    // (cos − i sin)(f_re + i f_im)
+    sum_re += kept * (cos_phase * f_re + sin_phase * f_im);
+    sum_im += kept * (cos_phase * f_im - sin_phase * f_re);
+}
+
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+void sum_prepared_chirped_terms(const KernelArrays& k, const ChirpFactors& c, std::size_t begin, std::size_t end,
+                                const TransformPoint& point, double& out_re, double& out_im) {
+    const auto add = [&](std::size_t i, auto& re, auto& im) __attribute__((always_inline)) {
+        using T = std::decay_t<decltype(re)>;
+        using gabor_math::lanes;
+        add_prepared_chirped_term(lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]),
+                                  lanes<T>(&k.slope_x[i]), lanes<T>(&k.slope_y[i]), lanes<T>(&c.a_xx_re[i]),
+                                  lanes<T>(&c.a_xx_im[i]), lanes<T>(&c.a_xy_re[i]), lanes<T>(&c.a_xy_im[i]),
+                                  lanes<T>(&c.a_yy_re[i]), lanes<T>(&c.a_yy_im[i]), lanes<T>(&c.f_re[i]),
+                                  lanes<T>(&c.f_im[i]), lanes<T>(&c.reach2[i]), point, re, im);
+    };
+    sum_in_lanes(begin, end, add, out_re, out_im);
+}
+
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 void sum_chirped_terms(const KernelArrays& k, std::size_t begin, std::size_t end, const TransformPoint& point,
                        double reach, double beta, double chirp_scale, double& out_re, double& out_im) {
@@ -285,6 +329,48 @@ TransformPoint transform_point(DiffractionModel model, const FresnelAtWavelength
     const double xi1 = xi1_geometric(model, omega_i, omega_o) * fresnel(0.5 * length(psi)) / (lambda_um * lambda_um);
     point.brdf_scale = xi1 / area_um2;
     return point;
+}
+
+ChirpFactors chirp_factors(const KernelArrays& kernels, const KernelGrid& grid, double xi3_over_lambda) {
+    ChirpFactors c;
+    c.xi3_over_lambda = xi3_over_lambda;
+    const std::size_t n = kernels.size();
+    for (auto* array : {&c.a_xx_re, &c.a_xx_im, &c.a_xy_re, &c.a_xy_im, &c.a_yy_re, &c.a_yy_im, &c.f_re, &c.f_im,
+                        &c.reach2})
+        array->resize(n);
+    const double e = grid.chirp_scale * xi3_over_lambda;
+    for (std::size_t k = 0; k < n; ++k) {
+        const double exx = e * kernels.curvature_xx[k];
+        const double exy = e * kernels.curvature_xy[k];
+        const double eyy = e * kernels.curvature_yy[k];
+        // M = I + iE, det M = (1 + iE_xx)(1 + iE_yy) + E_xy², M⁻¹ = adj(M)/det M (Folland 1989 App. A Thm. 1).
+        const std::complex<double> det(1.0 - (exx * eyy - exy * exy), exx + eyy);
+        const std::complex<double> beta_over_det = grid.beta / det;
+        const std::complex<double> axx = beta_over_det * std::complex<double>(1.0, eyy);
+        const std::complex<double> axy = beta_over_det * std::complex<double>(0.0, -exy);
+        const std::complex<double> ayy = beta_over_det * std::complex<double>(1.0, exx);
+        c.a_xx_re[k] = axx.real();
+        c.a_xx_im[k] = axx.imag();
+        c.a_xy_re[k] = axy.real();
+        c.a_xy_im[k] = axy.imag();
+        c.a_yy_re[k] = ayy.real();
+        c.a_yy_im[k] = ayy.imag();
+        // det^{−1/2}: the principal root, as in add_chirped_term (Re √det > 0).
+        const std::complex<double> f = kernels.weight[k] / std::sqrt(det);
+        c.f_re[k] = f.real();
+        c.f_im[k] = f.imag();
+        const double epsilon = spectral_radius(exx, exy, eyy);
+        c.reach2[k] = grid.reach * grid.reach * (1.0 + epsilon * epsilon);
+    }
+    return c;
+}
+
+std::complex<double> sum_transforms(const KernelArrays& kernels, const ChirpFactors& factors, std::size_t begin,
+                                    std::size_t end, const TransformPoint& point) {
+    double re = 0.0;
+    double im = 0.0;
+    sum_prepared_chirped_terms(kernels, factors, begin, end, point, re, im);
+    return {re, im};
 }
 
 std::complex<double> sum_transforms(const KernelArrays& kernels, std::size_t begin, std::size_t end,

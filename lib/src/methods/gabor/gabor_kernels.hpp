@@ -244,4 +244,21 @@ TransformPoint transform_point(DiffractionModel model, const FresnelAtWavelength
 std::complex<double> sum_transforms(const KernelArrays& kernels, std::size_t begin, std::size_t end,
                                     const TransformPoint& point, const KernelGrid& grid);
 
+// The factors of second-order terms that depend on a kernel and on ξ3/λ but not on v, for one
+// ξ3/λ: with E = 2πσ² ξ3 H''/λ and M = I + iE, A = β M⁻¹ (complex symmetric: xx, xy, yy),
+// f = w l² det(M)^{−1/2} and the widened cut reach²(1 + ρ(E)²). Where ξ3 does not depend on the
+// directions (OHS, R-OHS) a footprint evaluated at many directions computes them once per
+// wavelength instead of once per term (a division and three square roots).
+struct ChirpFactors {
+    double xi3_over_lambda = 0.0;
+    std::vector<double> a_xx_re, a_xx_im, a_xy_re, a_xy_im, a_yy_re, a_yy_im, f_re, f_im, reach2;
+};
+ChirpFactors chirp_factors(const KernelArrays& kernels, const KernelGrid& grid, double xi3_over_lambda);
+
+// sum_transforms of second-order kernels with their factors at point.xi3_over_lambda (which must
+// equal factors.xi3_over_lambda): the same terms, w l² ξ2 e^{−i2π(ξ3 H/λ + m·v)} det(M)^{−1/2}
+// e^{−uᵀAu}, each cut at its widened reach.
+std::complex<double> sum_transforms(const KernelArrays& kernels, const ChirpFactors& factors, std::size_t begin,
+                                    std::size_t end, const TransformPoint& point);
+
 }  // namespace glintscope::gabor

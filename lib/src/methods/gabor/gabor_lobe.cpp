@@ -534,10 +534,11 @@ MethodEntry gabor_method() {
                              "closed-form sum of the kernels' transforms, cut at kernel_truncation"}},
              true},
             gabor_lobe,
-            nullptr,
+            gabor_point_answers,
             gabor_point_field};
     // One kernel grid step along both axes (kernel_grid): rectangular texels are resampled first.
     entry.info.needs_square_texels = true;
+    entry.bsdf_from_images = true;  // a footprint's Bsdf evaluates through its own slope index
     return entry;
 }
 

@@ -1,6 +1,10 @@
-// Gabor's answers for single directions at any footprint (interface: lobe/point_answers.hpp):
-// eval is GaborSurface's point query (Yan 2018 eq. 16–17 over the pruning hierarchy of §5), built
-// once per heightfield; sample and pdf are the footprint's kernel mixture (gabor_sampling.hpp).
+// Gabor's answers for single directions (interface: lobe/point_answers.hpp). At any footprint
+// (renderers' shading points): eval is GaborSurface's point query (Yan 2018 eq. 16–17 over the
+// pruning hierarchy of §5), built once per heightfield. At one footprint (make_bsdf, many
+// directions): eval sums the footprint's kernels through a SlopeIndex built once. Sample and pdf
+// are the footprint's kernel mixture (gabor_sampling.hpp) in both.
+#include <cmath>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -8,38 +12,49 @@
 #include "gabor.hpp"
 #include "gabor_kernels.hpp"
 #include "gabor_sampling.hpp"
+#include "gabor_slope_index.hpp"
+#include "glintscope/core/error.hpp"
 
 namespace glintscope {
 namespace {
 
-// One footprint's kernel mixture, gathered on the first sample or pdf: a renderer's shading point
+// One footprint's kernel mixture, made on the first sample or pdf: a renderer's shading point
 // that is only evaluated never pays for interpolating the footprint's kernels.
 class LazyMixture {
 public:
-    LazyMixture(std::shared_ptr<const BicubicInterpolant> surface, gabor::KernelGrid grid, Footprint footprint,
-                double footprint_sigmas, DiffractionModel model, std::vector<double> wavelengths_um)
-        : surface_(std::move(surface)), grid_(grid), footprint_(footprint), footprint_sigmas_(footprint_sigmas),
-          model_(model), wavelengths_um_(std::move(wavelengths_um)) {}
+    explicit LazyMixture(std::function<gabor::KernelMixture()> make) : make_(std::move(make)) {}
 
     const gabor::KernelMixture& get() const {
-        std::call_once(once_, [this] {
-            const gabor::CoherenceWindow window(footprint_, footprint_sigmas_);
-            mixture_.emplace(gabor::gather_kernels(*surface_, grid_, window, footprint_.centre_um).arrays, grid_,
-                             model_, wavelengths_um_);
-        });
+        std::call_once(once_, [this] { mixture_.emplace(make_()); });
         return *mixture_;
     }
 
 private:
-    std::shared_ptr<const BicubicInterpolant> surface_;
-    gabor::KernelGrid grid_;
-    Footprint footprint_;
-    double footprint_sigmas_;
-    DiffractionModel model_;
-    std::vector<double> wavelengths_um_;
+    std::function<gabor::KernelMixture()> make_;
     mutable std::once_flag once_;
     mutable std::optional<gabor::KernelMixture> mixture_;
 };
+
+void set_sampling(PointAnswers& answers, std::shared_ptr<const LazyMixture> mixture) {
+    answers.sample = [mixture](Vec3 omega_i, double u1, double u2) { return mixture->get().sample(omega_i, u1, u2); };
+    answers.pdf = [mixture](Vec3 omega_i, Vec3 omega_o) { return mixture->get().pdf(omega_i, omega_o); };
+}
+
+// f_r per wavelength from one footprint's slope index: ξ1/A_c |Σ_k w_k C_k F[g_k](v)|² (Yan 2018 eq. 16–17).
+std::vector<double> indexed_f_r(const gabor::SlopeIndex& index, DiffractionModel model, const MaterialChoice& material,
+                                double area_um2, Vec3 omega_i, Vec3 omega_o, const std::vector<double>& wavelengths_um) {
+    for (const double lambda : wavelengths_um)
+        if (!(lambda > 0.0 && std::isfinite(lambda))) throw Error("gabor: wavelengths must be positive and finite");
+    std::vector<double> values(wavelengths_um.size(), 0.0);
+    if (omega_i.z <= 0.0 || omega_o.z <= 0.0) return values;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        const double lambda = wavelengths_um[i];
+        const gabor::TransformPoint point = gabor::transform_point(model, gabor::FresnelAtWavelength(material, lambda),
+                                                                   omega_i, omega_o, lambda, area_um2);
+        values[i] = point.brdf_scale * std::norm(index.sum(point));
+    }
+    return values;
+}
 
 }  // namespace
 
@@ -59,12 +74,42 @@ PointAnswersAt gabor_point_field(const LobeQuery& query) {
                                                                           const std::vector<double>& chosen) {
             return surface->f_r({footprint, omega_i, omega_o, model, material}, chosen);
         };
-        auto mixture = std::make_shared<const LazyMixture>(query.surface, grid, footprint,
-                                                           surface->settings().footprint_sigmas, model, wavelengths);
-        answers.sample = [mixture](Vec3 omega_i, double u1, double u2) { return mixture->get().sample(omega_i, u1, u2); };
-        answers.pdf = [mixture](Vec3 omega_i, Vec3 omega_o) { return mixture->get().pdf(omega_i, omega_o); };
+        const auto interpolant = query.surface;
+        const double footprint_sigmas = surface->settings().footprint_sigmas;
+        set_sampling(answers, std::make_shared<const LazyMixture>([=] {
+                         const gabor::CoherenceWindow window(footprint, footprint_sigmas);
+                         return gabor::KernelMixture(
+                             gabor::gather_kernels(*interpolant, grid, window, footprint.centre_um).arrays, grid,
+                             model, wavelengths);
+                     }));
         return answers;
     };
+}
+
+PointAnswers gabor_point_answers(const LobeQuery& query) {
+    const GaborSettings settings = gabor_settings(query);
+    const gabor::KernelGrid grid = gabor::kernel_grid(query.surface->texel_um(), settings);
+    const gabor::CoherenceWindow window(query.footprint, settings.footprint_sigmas);
+    const DiffractionModel model = query.model;
+    // Where ξ3 does not depend on the directions, each wavelength's ξ3/λ is known now: transform_point's.
+    std::vector<double> prepared;
+    if (!phase_depends_on_outgoing(model))
+        for (const double lambda : query.wavelengths_um) prepared.push_back(xi3(model, {0, 0, 1}, {0, 0, 1}) / lambda);
+    const auto index = std::make_shared<const gabor::SlopeIndex>(
+        gabor::gather_kernels(*query.surface, grid, window, query.footprint.centre_um).arrays, grid, prepared);
+    const double area = window.area_um2();
+    const MaterialChoice material = query.material;
+    const std::vector<double> wavelengths = query.wavelengths_um;
+    PointAnswers answers;
+    answers.eval = [=](Vec3 omega_i, Vec3 omega_o) {
+        return indexed_f_r(*index, model, material, area, omega_i, omega_o, wavelengths);
+    };
+    answers.eval_at_wavelengths = [=](Vec3 omega_i, Vec3 omega_o, const std::vector<double>& chosen) {
+        return indexed_f_r(*index, model, material, area, omega_i, omega_o, chosen);
+    };
+    set_sampling(answers, std::make_shared<const LazyMixture>(
+                              [=] { return gabor::KernelMixture(index->kernels(), grid, model, wavelengths); }));
+    return answers;
 }
 
 }  // namespace glintscope
