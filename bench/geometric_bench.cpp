@@ -105,4 +105,23 @@ void BM_PndfPointQuerySigma20(benchmark::State& state) {
 }
 BENCHMARK(BM_PndfPointQuerySigma20)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond);
 
+// The point query's sampler for one σ_c = 20 µm footprint (argument as above): range(1) = 0 times
+// the making of its cumulative weights over the support; 1 times a draw of h from them.
+void BM_PndfPointSamplerSigma20(benchmark::State& state) {
+    const glintscope::NormalBoundsTree tree =
+        glintscope::make_normal_bounds_tree(builtin_surface(), tree_settings(state.range(0)), 256);
+    glintscope::Footprint footprint;
+    footprint.centre_um = {300.0, 700.0};
+    footprint.sigma_um = 20.0;
+    if (state.range(1) == 0) {
+        for (auto _ : state) benchmark::DoNotOptimize(glintscope::make_normal_sampler(tree, footprint));
+        return;
+    }
+    const glintscope::NormalSampler sampler = glintscope::make_normal_sampler(tree, footprint);
+    std::mt19937_64 rng(23);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (auto _ : state) benchmark::DoNotOptimize(glintscope::sample_normal(tree, sampler, u(rng), u(rng)));
+}
+BENCHMARK(BM_PndfPointSamplerSigma20)->Args({1, 0})->Args({1, 1})->Args({0, 1})->Unit(benchmark::kMicrosecond);
+
 }  // namespace

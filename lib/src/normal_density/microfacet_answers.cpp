@@ -18,27 +18,33 @@ struct Microfacet {
         return microfacet_value(table.density.at(h.x, h.y), shadowing, omega_i, omega_o, h, table.indices, wavelengths);
     }
 
-    // dω_h/dω_o = 1/(4 ω_o·h) (Walter 2007 eq. 14), and dA_h = h_z dω_h.
-    double pdf_of_reflection(Vec3 h, Vec3 omega_o) const {
-        const double cos_oh = dot(omega_o, h);
-        if (cos_oh <= 0.0) return 0.0;
-        return disk_density(normals, h.x, h.y) * h.z / (4.0 * cos_oh);
-    }
-
     DirectionSample sample(Vec3 omega_i, double u1, double u2) const {
         const auto point = sample_disk(normals, u1, u2);
         if (!point) return {};
-        const Vec3 h = direction_from_disk(point->x, point->y);
-        const double cos_ih = dot(omega_i, h);
-        const Vec3 omega_o = 2.0 * cos_ih * h - omega_i;  // the mirror direction about h
-        if (cos_ih <= 0.0 || omega_o.z <= 0.0) return {};
-        return {omega_o, pdf_of_reflection(h, omega_o)};
+        return reflected_sample(omega_i, *point, disk_density(normals, point->x, point->y));
     }
 
-    double pdf(Vec3 omega_i, Vec3 omega_o) const { return pdf_of_reflection(normalize(omega_i + omega_o), omega_o); }
+    double pdf(Vec3 omega_i, Vec3 omega_o) const {
+        const Vec3 h = normalize(omega_i + omega_o);
+        return reflection_pdf(disk_density(normals, h.x, h.y), h, omega_o);
+    }
 };
 
 }  // namespace
+
+double reflection_pdf(double disk_density_of_h, Vec3 h, Vec3 omega_o) {
+    const double cos_oh = dot(omega_o, h);
+    if (cos_oh <= 0.0) return 0.0;
+    return disk_density_of_h * h.z / (4.0 * cos_oh);  // dω_h/dω_o = 1/(4 ω_o·h) (Walter 2007 eq. 14), dA_h = h_z dω_h
+}
+
+DirectionSample reflected_sample(Vec3 omega_i, DiskPoint h_disk, double disk_density_of_h) {
+    const Vec3 h = direction_from_disk(h_disk.x, h_disk.y);
+    const double cos_ih = dot(omega_i, h);
+    const Vec3 omega_o = 2.0 * cos_ih * h - omega_i;  // the mirror direction about h
+    if (cos_ih <= 0.0 || omega_o.z <= 0.0) return {};
+    return {omega_o, reflection_pdf(disk_density_of_h, h, omega_o)};
+}
 
 std::vector<double> microfacet_value(double density, double shadowing, Vec3 omega_i, Vec3 omega_o, Vec3 h,
                                      const std::vector<ComplexIndex>& indices, std::size_t wavelengths) {

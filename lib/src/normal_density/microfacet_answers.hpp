@@ -24,6 +24,14 @@ struct MicrofacetTable {
 
 PointAnswers microfacet_answers(MicrofacetTable table, std::size_t wavelengths);
 
+// The pdf per solid angle of ω_o = reflect(ω_i, h) for h drawn with `disk_density_of_h` per
+// unit disk area (Walter 2007 eq. 14); 0 where ω_o·h ≤ 0.
+double reflection_pdf(double disk_density_of_h, Vec3 h, Vec3 omega_o);
+
+// ω_o = reflect(ω_i, h) for the drawn disk point h and its pdf; none where ω_o falls below the
+// horizon or h faces away from ω_i.
+DirectionSample reflected_sample(Vec3 omega_i, DiskPoint h_disk, double disk_density_of_h);
+
 // F(ω_i·h) D G / (4 cosθ_i cosθ_o) per wavelength (Dong 2015 eq. 1) for the density D and
 // shadowing G at h: one Fresnel factor per index, F = 1 for all `wavelengths` without indices.
 std::vector<double> microfacet_value(double density, double shadowing, Vec3 omega_i, Vec3 omega_o, Vec3 h,

@@ -7,6 +7,7 @@
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
+#include "surface/catmull_rom.hpp"
 
 namespace glintscope {
 namespace {
@@ -47,90 +48,252 @@ void image_samples(const BicubicInterpolant& surface, const NormalDensitySetting
     });
 }
 
-// The normal images of the (n + 1)² sub-corners of texel cell (i, j), row by row from its
-// sample (i, j) in steps of dx/n, dy/n: the image's evaluation (normal_density.cpp, accumulate_rows).
-void image_sub_corners(const NormalBoundsTree& tree, int i, int j, int n, std::vector<SurfacePoint>& points,
-                       std::vector<Pixel>& pixels) {
-    const double tx = tree.grid.dx_um, ty = tree.grid.dy_um;
-    points.resize(static_cast<std::size_t>(n + 1) * (n + 1));
-    pixels.resize(points.size());
-    tree.surface->evaluate_grid((i + 0.5) * tx, (j + 0.5) * ty, tx / n, ty / n, n + 1, n + 1, points.data());
-    for (std::size_t k = 0; k < points.size(); ++k) pixels[k] = normal_pixel(points[k], 0.5 * tree.resolution);
-}
+// The interpolant on texel cell (i, j) (BicubicInterpolant::evaluate, Catmull–Rom along each
+// axis) with its 4 × 4 samples read once: the normal images of the cell's sub-corners at
+// (a/n, b/n), as the image evaluates them up to rounding (the image's grid steps from the cell's
+// sample in dx/n; here the fraction is a/n of this cell even at a = n, the next cell's edge).
+struct CellPatch {
+    double taps[4][4];  // taps[m][k]: sample (i − 1 + k, j − 1 + m), wrapped
+    double inverse_dx = 0.0, inverse_dy = 0.0, half_resolution = 0.0;
 
-NormalBox box_of(const Pixel* corners, std::size_t count) {
-    double u_low = corners[0].u, u_high = u_low, v_low = corners[0].v, v_high = v_low;
-    for (std::size_t k = 1; k < count; ++k) {
-        const Pixel& p = corners[k];
-        u_low = std::min(u_low, p.u), u_high = std::max(u_high, p.u);
-        v_low = std::min(v_low, p.v), v_high = std::max(v_high, p.v);
-    }
-    constexpr float kDown = -std::numeric_limits<float>::infinity(), kUp = std::numeric_limits<float>::infinity();
-    return {std::nextafter(static_cast<float>(u_low), kDown), std::nextafter(static_cast<float>(u_high), kUp),
-            std::nextafter(static_cast<float>(v_low), kDown), std::nextafter(static_cast<float>(v_high), kUp)};
-}
-
-NormalBox united(const NormalBox& a, const NormalBox& b) {
-    return {std::min(a.u_low, b.u_low), std::max(a.u_high, b.u_high), std::min(a.v_low, b.v_low),
-            std::max(a.v_high, b.v_high)};
-}
-
-// Level 0: the box of each cell's corners (its triangles' images are their convex hulls);
-// above: the union of up to 2 × 2 boxes of the level below, until one box remains.
-void build_levels(NormalBoundsTree& tree) {
-    const TexelGrid& grid = tree.grid;
-    std::vector<NormalBox> leaves(tree.subdivision.size());
-    parallel_for(static_cast<std::size_t>(grid.rows), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
-        std::vector<SurfacePoint> points;
-        std::vector<Pixel> pixels;
-        for (std::size_t j = begin; j < end; ++j) {
-            const std::size_t above = (j + 1) % grid.rows;
-            for (int i = 0; i < grid.cols; ++i) {
-                const std::size_t cell = j * grid.cols + i;
-                const int n = tree.subdivision[cell];
-                if (n > 1) {
-                    image_sub_corners(tree, i, static_cast<int>(j), n, points, pixels);
-                    leaves[cell] = box_of(pixels.data(), pixels.size());
-                    continue;
-                }
-                const int right = (i + 1) % grid.cols;
-                const std::array<Pixel, 4> corners = {tree.samples[cell], tree.samples[j * grid.cols + right],
-                                                      tree.samples[above * grid.cols + i],
-                                                      tree.samples[above * grid.cols + right]};
-                leaves[cell] = box_of(corners.data(), 4);
-            }
+    CellPatch(const NormalBoundsTree& tree, int i, int j) {
+        const BicubicInterpolant& surface = *tree.surface;
+        const int cols = surface.cols(), rows = surface.rows();
+        // Indices lie within one period of the field's (−1 … count + 1); a field of one sample wraps further.
+        const auto wrapped = [](int index, int count) {
+            if (count < 2) return 0;
+            return index < 0 ? index + count : index >= count ? index - count : index;
+        };
+        for (int m = 0; m < 4; ++m) {
+            const float* row = surface.sample_row(wrapped(j - 1 + m, rows));
+            for (int k = 0; k < 4; ++k) taps[m][k] = row[wrapped(i - 1 + k, cols)];
         }
-    });
-    tree.level_cols = {grid.cols};
-    tree.level_rows = {grid.rows};
-    tree.children.clear();
-    std::vector<NormalBox> below = std::move(leaves);
-    constexpr float kInfinity = std::numeric_limits<float>::infinity();
-    const NormalBox empty{kInfinity, -kInfinity, kInfinity, -kInfinity};
-    while (tree.level_cols.back() > 1 || tree.level_rows.back() > 1) {
-        const int below_cols = tree.level_cols.back(), below_rows = tree.level_rows.back();
-        const int cols = (below_cols + 1) / 2, rows = (below_rows + 1) / 2;
-        std::vector<NormalBoundsTree::Children> blocks(static_cast<std::size_t>(cols) * rows);
-        std::vector<NormalBox> level(blocks.size());
-        for (int j = 0; j < rows; ++j)
-            for (int i = 0; i < cols; ++i) {
-                NormalBoundsTree::Children& block = blocks[static_cast<std::size_t>(j) * cols + i];
-                NormalBox box = empty;
-                for (int b = 0; b < 2; ++b)
-                    for (int a = 0; a < 2; ++a) {
-                        const bool inside = 2 * i + a < below_cols && 2 * j + b < below_rows;
-                        block.boxes[2 * b + a] =
-                            inside ? below[static_cast<std::size_t>(2 * j + b) * below_cols + 2 * i + a] : empty;
-                        if (inside) box = united(box, block.boxes[2 * b + a]);
-                    }
-                level[static_cast<std::size_t>(j) * cols + i] = box;
-            }
-        tree.children.push_back(std::move(blocks));
-        below = std::move(level);
-        tree.level_cols.push_back(cols);
-        tree.level_rows.push_back(rows);
+        inverse_dx = 1.0 / surface.texel_um();
+        inverse_dy = 1.0 / surface.texel_y_um();
+        half_resolution = 0.5 * tree.resolution;
     }
-    tree.root = below[0];
+
+    Pixel at(int n, int a, int b) const {
+        const CubicWeights x = catmull_rom(static_cast<double>(a) / n), y = catmull_rom(static_cast<double>(b) / n);
+        double dh_du = 0.0, dh_dv = 0.0;
+        for (int m = 0; m < 4; ++m) {
+            double along_x = 0.0, along_x_du = 0.0;
+            for (int k = 0; k < 4; ++k) {
+                along_x += x.w[k] * taps[m][k];
+                along_x_du += x.dw[k] * taps[m][k];
+            }
+            dh_du += y.w[m] * along_x_du;
+            dh_dv += y.dw[m] * along_x;
+        }
+        return normal_pixel({0.0, dh_du * inverse_dx, dh_dv * inverse_dy}, half_resolution);
+    }
+};
+
+// The four corner images of texel cell (i, j): samples (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1).
+struct CellCorners {
+    Pixel p00, p10, p01, p11;
+};
+
+CellCorners cell_corners(const NormalBoundsTree& tree, int i, int j) {
+    const TexelGrid& grid = tree.grid;
+    const std::size_t row = static_cast<std::size_t>(j) * grid.cols;
+    const std::size_t above = static_cast<std::size_t>(j + 1 == grid.rows ? 0 : j + 1) * grid.cols;
+    const int right = i + 1 == grid.cols ? 0 : i + 1;
+    return {tree.samples[row + i], tree.samples[row + right], tree.samples[above + i], tree.samples[above + right]};
+}
+
+// The images of a divided cell's sub-corners: its four corners are the samples' images (as an
+// undivided neighbour's), the others evaluated once per use of the cell, on first need; the
+// storage is kept per thread (no allocation once a thread has met the largest n).
+class SubCorners {
+public:
+    SubCorners(const CellPatch& patch, const CellCorners& corners, int n) : patch_(patch), corners_(corners), n_(n) {
+        thread_local std::vector<Pixel> images;
+        thread_local std::vector<std::uint32_t> stamps;
+        thread_local std::uint32_t generation = 0;
+        const std::size_t count = static_cast<std::size_t>(n + 1) * (n + 1);
+        if (stamps.size() < count) stamps.resize(count, 0), images.resize(count);
+        if (++generation == 0) std::fill(stamps.begin(), stamps.end(), 0), generation = 1;
+        images_ = images.data(), stamps_ = stamps.data(), generation_ = generation;
+    }
+
+    Pixel at(int a, int b) const {
+        if ((a == 0 || a == n_) && (b == 0 || b == n_))
+            return a == 0 ? (b == 0 ? corners_.p00 : corners_.p01) : (b == 0 ? corners_.p10 : corners_.p11);
+        const std::size_t k = static_cast<std::size_t>(b) * (n_ + 1) + a;
+        if (stamps_[k] != generation_) images_[k] = patch_.at(n_, a, b), stamps_[k] = generation_;
+        return images_[k];
+    }
+
+private:
+    const CellPatch& patch_;
+    const CellCorners& corners_;
+    int n_;
+    Pixel* images_;
+    std::uint32_t* stamps_;
+    std::uint32_t generation_;
+};
+
+// Quadrant q (bit 0: right, bit 1: top) of a divided cell: sub-corners [a0, a1] × [b0, b1],
+// split at m = ⌊n/2⌋.
+struct Quadrant {
+    int a0, a1, b0, b1;
+};
+
+Quadrant quadrant(int n, int q) {
+    const int m = n / 2;
+    return {q & 1 ? m : 0, q & 1 ? n : m, q & 2 ? m : 0, q & 2 ? n : m};
+}
+
+// The bilinear blend of four images at fractions (s, t): where a point's image would be if the
+// normal map were bilinear over them.
+[[gnu::always_inline]] inline Pixel bilinear(Pixel p00, Pixel p10, Pixel p01, Pixel p11, double s, double t) {
+    const double w00 = (1.0 - s) * (1.0 - t), w10 = s * (1.0 - t), w01 = (1.0 - s) * t, w11 = s * t;
+    return {w00 * p00.u + w10 * p10.u + w01 * p01.u + w11 * p11.u, w00 * p00.v + w10 * p10.v + w01 * p01.v + w11 * p11.v};
+}
+
+// A cell's normal box (the hull of its sub-corners' images, those of its triangles) and, divided,
+// each quadrant's stray: the largest per-axis distance of a sub-corner's image from the blend
+// of the quadrant's corner images (pixels), which bounds its triangles' images to the box of
+// those corners widened by the stray.
+struct CellBounds {
+    double u_low, u_high, v_low, v_high;
+    std::array<double, 4> strays{};
+};
+
+CellBounds cell_bounds(const NormalBoundsTree& tree, int i, int j) {
+    const int n = tree.subdivision[static_cast<std::size_t>(j) * tree.grid.cols + i];
+    const CellCorners c = cell_corners(tree, i, j);
+    CellBounds bounds{c.p00.u, c.p00.u, c.p00.v, c.p00.v};
+    const auto include = [&](Pixel p) {
+        bounds.u_low = std::min(bounds.u_low, p.u), bounds.u_high = std::max(bounds.u_high, p.u);
+        bounds.v_low = std::min(bounds.v_low, p.v), bounds.v_high = std::max(bounds.v_high, p.v);
+    };
+    if (n == 1) {
+        for (Pixel p : {c.p10, c.p01, c.p11}) include(p);
+        return bounds;
+    }
+    const CellPatch patch(tree, i, j);
+    const SubCorners corners(patch, c, n);
+    for (int q = 0; q < 4; ++q) {
+        const Quadrant r = quadrant(n, q);
+        const Pixel p00 = corners.at(r.a0, r.b0), p10 = corners.at(r.a1, r.b0);
+        const Pixel p01 = corners.at(r.a0, r.b1), p11 = corners.at(r.a1, r.b1);
+        for (int b = r.b0; b <= r.b1; ++b)
+            for (int a = r.a0; a <= r.a1; ++a) {
+                const Pixel p = corners.at(a, b);
+                const Pixel blend = bilinear(p00, p10, p01, p11, static_cast<double>(a - r.a0) / (r.a1 - r.a0),
+                                             static_cast<double>(b - r.b0) / (r.b1 - r.b0));
+                include(p);
+                bounds.strays[q] = std::max({bounds.strays[q], std::abs(p.u - blend.u), std::abs(p.v - blend.v)});
+            }
+    }
+    return bounds;
+}
+
+// The bins' side: the median extent of the cells' widened boxes (at least a pixel), so that a
+// cell overlaps about four bins and a bin's list holds about four times the cells whose box
+// holds a normal of it.
+double bin_side(const std::vector<CellBounds>& bounds, double reach) {
+    std::vector<double> extents(bounds.size());
+    for (std::size_t k = 0; k < bounds.size(); ++k)
+        extents[k] = std::max(bounds[k].u_high - bounds[k].u_low, bounds[k].v_high - bounds[k].v_low) + 2.0 * reach;
+    std::nth_element(extents.begin(), extents.begin() + extents.size() / 2, extents.end());
+    return std::max(1.0, extents[extents.size() / 2]);
+}
+
+// The bins a cell's widened box overlaps, [bu0, bu1] × [bv0, bv1].
+struct BinRange {
+    int bu0, bu1, bv0, bv1;
+};
+
+BinRange bin_range(const NormalBoundsTree& tree, const CellBounds& b, double reach) {
+    const auto bin = [&](double x) {
+        return std::clamp(static_cast<int>(std::floor((x - tree.origin) / tree.bin_pixels)), 0, tree.bins_across - 1);
+    };
+    return {bin(b.u_low - reach), bin(b.u_high + reach), bin(b.v_low - reach), bin(b.v_high + reach)};
+}
+
+// Quanta of `tree.quantum` pixels from the origin, rounded down or up (one quantum further,
+// against the rounding of the division), saturated to 16 bits.
+std::uint16_t quantised(const NormalBoundsTree& tree, double x, bool up) {
+    const double q = (x - tree.origin) / tree.quantum;
+    const double rounded = up ? std::ceil(q) + 1.0 : std::floor(q) - 1.0;
+    return static_cast<std::uint16_t>(std::clamp(rounded, 0.0, 65535.0));
+}
+
+// Calls visit(i, j, place) for the cells of tile t in row-major order, place = local row · 32 + column.
+template <typename Visit>
+void for_cells_of_tile(const NormalBoundsTree& tree, int t, const Visit& visit) {
+    const int tile_x = t % tree.tile_cols, tile_y = t / tree.tile_cols, side = NormalBoundsTree::kTileCells;
+    for (int ly = 0; ly < side && tile_y * side + ly < tree.grid.rows; ++ly)
+        for (int lx = 0; lx < side && tile_x * side + lx < tree.grid.cols; ++lx)
+            visit(tile_x * side + lx, tile_y * side + ly, ly * side + lx);
+}
+
+// The bins of every cell's box (widened by the blur's reach), listed per bin and tile.
+void build_bins(NormalBoundsTree& tree, double reach) {
+    const TexelGrid& grid = tree.grid;
+    std::vector<CellBounds> bounds(tree.subdivision.size());
+    parallel_for(static_cast<std::size_t>(grid.rows), kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t j = begin; j < end; ++j)
+            for (int i = 0; i < grid.cols; ++i)
+                bounds[j * grid.cols + i] = cell_bounds(tree, i, static_cast<int>(j));
+    });
+    const int side = NormalBoundsTree::kTileCells;
+    tree.tile_cols = (grid.cols + side - 1) / side;
+    tree.tile_rows = (grid.rows + side - 1) / side;
+    // Normal images lie within the disk's square [0, N]², strays and the reach widen it.
+    double stray = 0.0;
+    for (const CellBounds& b : bounds) stray = std::max(stray, *std::max_element(b.strays.begin(), b.strays.end()));
+    tree.origin = -reach - 1.0;
+    const double span = tree.resolution + 2.0 * reach + 2.0;
+    tree.bin_pixels = bin_side(bounds, reach);
+    tree.bins_across = static_cast<int>(std::ceil(span / tree.bin_pixels));
+    tree.quantum = (span + stray) / 60000.0;
+    const std::size_t tiles = static_cast<std::size_t>(tree.tile_cols) * tree.tile_rows;
+    // Count each bin's cells, give the bins that have any a row, count per row and tile, list.
+    std::vector<std::size_t> per_bin(static_cast<std::size_t>(tree.bins_across) * tree.bins_across, 0);
+    for (const CellBounds& b : bounds) {
+        const BinRange r = bin_range(tree, b, reach);
+        for (int bv = r.bv0; bv <= r.bv1; ++bv)
+            for (int bu = r.bu0; bu <= r.bu1; ++bu) ++per_bin[static_cast<std::size_t>(bv) * tree.bins_across + bu];
+    }
+    tree.bin_rows.assign(per_bin.size(), -1);
+    std::int32_t rows = 0;
+    for (std::size_t k = 0; k < per_bin.size(); ++k)
+        if (per_bin[k] > 0) tree.bin_rows[k] = rows++;
+    const std::size_t stride = tiles + 1;
+    std::vector<std::size_t> counts(static_cast<std::size_t>(rows) * stride + 1, 0);
+    const auto for_bins = [&](const CellBounds& b, const auto& visit) {
+        const BinRange r = bin_range(tree, b, reach);
+        for (int bv = r.bv0; bv <= r.bv1; ++bv)
+            for (int bu = r.bu0; bu <= r.bu1; ++bu)
+                visit(static_cast<std::size_t>(tree.bin_rows[static_cast<std::size_t>(bv) * tree.bins_across + bu]));
+    };
+    for (std::size_t t = 0; t < tiles; ++t)
+        for_cells_of_tile(tree, static_cast<int>(t), [&](int i, int j, int) {
+            for_bins(bounds[static_cast<std::size_t>(j) * grid.cols + i], [&](std::size_t row) { ++counts[row * stride + t + 1]; });
+        });
+    for (std::size_t k = 1; k < counts.size(); ++k) counts[k] += counts[k - 1];
+    if (counts.back() > std::numeric_limits<std::uint32_t>::max())
+        throw Error("the field is too large for the point query's index of normal bounds");
+    tree.offsets.assign(counts.begin(), counts.end());
+    tree.cells.resize(counts.back());
+    tree.quadrant_strays.resize(bounds.size());
+    for (std::size_t cell = 0; cell < bounds.size(); ++cell)
+        for (int q = 0; q < 4; ++q) tree.quadrant_strays[cell][q] = quantised(tree, tree.origin + bounds[cell].strays[q], true);
+    std::vector<std::size_t> cursor = std::move(counts);
+    for (std::size_t t = 0; t < tiles; ++t)
+        for_cells_of_tile(tree, static_cast<int>(t), [&](int i, int j, int place) {
+            const std::size_t cell = static_cast<std::size_t>(j) * grid.cols + i;
+            const CellBounds& b = bounds[cell];
+            BinnedCell entry;
+            entry.place = static_cast<std::uint16_t>(place << 6 | (tree.subdivision[cell] - 1));
+            entry.u_low = quantised(tree, b.u_low - reach, false), entry.u_high = quantised(tree, b.u_high + reach, true);
+            entry.v_low = quantised(tree, b.v_low - reach, false), entry.v_high = quantised(tree, b.v_high + reach, true);
+            for_bins(b, [&](std::size_t row) { tree.cells[cursor[row * stride + t]++] = entry; });
+        });
 }
 
 // ---- The query ------------------------------------------------------------------------------
@@ -159,13 +322,13 @@ Blur blur_for(double roughness, int resolution) {
     return blur;
 }
 
-// The density at p (mass per pixel area) of `mass` spread uniformly over the triangle abc; with
+// The density at p (per pixel area) of a unit mass spread uniformly over the triangle abc; with
 // a blur, that spread convolved with the Gaussian by the edge-midpoint rule. A triangle whose
 // image is (numerically) a segment is skipped unblurred, as the image deposits it along a line.
-double triangle_density(Pixel a, Pixel b, Pixel c, double mass, Pixel p, const Blur& blur) {
+double triangle_spread(Pixel a, Pixel b, Pixel c, Pixel p, const Blur& blur) {
     if (blur.sigma > 0.0) {
         const auto gaussian_at = [&](Pixel x, Pixel y) { return blur.at(p.u - 0.5 * (x.u + y.u), p.v - 0.5 * (x.v + y.v)); };
-        return mass * (gaussian_at(a, b) + gaussian_at(b, c) + gaussian_at(c, a)) / 3.0;
+        return (gaussian_at(a, b) + gaussian_at(b, c) + gaussian_at(c, a)) / 3.0;
     }
     const double cross = (b.u - a.u) * (c.v - a.v) - (c.u - a.u) * (b.v - a.v);
     const double d1 = (b.u - a.u) * (p.v - a.v) - (p.u - a.u) * (b.v - a.v);
@@ -177,10 +340,45 @@ double triangle_density(Pixel a, Pixel b, Pixel c, double mass, Pixel p, const B
     const double extent = 1.0 + std::max(std::max({a.u, b.u, c.u}) - std::min({a.u, b.u, c.u}),
                                          std::max({a.v, b.v, c.v}) - std::min({a.v, b.v, c.v}));
     if (std::abs(cross) < 2e-9 * extent * extent) return 0.0;
-    return 2.0 * mass / std::abs(cross);
+    return 2.0 / std::abs(cross);
 }
 
-// One footprint's query: the lattice of its support, its weight, the normal in pixel units.
+// The sub-cells of side h × k of a cell at (x, y): the weights (footprint weight at the
+// centroid × area) of sub-cell (a, b)'s two triangles, lower (p00, p10, p11), upper (p00, p11, p01).
+struct SubCells {
+    const Weight& weight;
+    double x, y, h, k;
+
+    double lower(int a, int b) const { return 0.5 * h * k * weight(x + a * h + h * (2.0 / 3.0), y + b * k + k / 3.0); }
+    double upper(int a, int b) const { return 0.5 * h * k * weight(x + a * h + h / 3.0, y + b * k + k * (2.0 / 3.0)); }
+};
+
+// Σ of the weights of a cell's 2n² triangles, one by one.
+double cell_weight(const SubCells& cells, int n) {
+    double sum = 0.0;
+    for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) sum += cells.lower(a, b) + cells.upper(a, b);
+    return sum;
+}
+
+// The same for a cell wholly within a Gaussian weight's cutoff, by its separability:
+// e^{−(dx² + dy²)/(2σ²)} = e^{−dx²/(2σ²)} e^{−dy²/(2σ²)}, so the sum over the sub-cells' lower
+// centroids (a + ⅔, b + ⅓) is (Σ_a e_x)(Σ_b e_y), the upper ones' alike: 4n exponentials, not 2n².
+double separable_cell_weight(const SubCells& cells, int n) {
+    const Weight& w = cells.weight;
+    double x_lower = 0.0, x_upper = 0.0, y_lower = 0.0, y_upper = 0.0;
+    const auto e = [&](double d) { return std::exp(-d * d * w.inverse_two_variance); };
+    for (int a = 0; a < n; ++a) {
+        x_lower += e(cells.x + a * cells.h + cells.h * (2.0 / 3.0) - w.centre.x);
+        x_upper += e(cells.x + a * cells.h + cells.h / 3.0 - w.centre.x);
+        y_lower += e(cells.y + a * cells.k + cells.k / 3.0 - w.centre.y);
+        y_upper += e(cells.y + a * cells.k + cells.k * (2.0 / 3.0) - w.centre.y);
+    }
+    return 0.5 * cells.h * cells.k * w.scale * (x_lower * y_lower + x_upper * y_upper);
+}
+
+// One footprint's query: the lattice of its support, its weight, the normal in pixel units and
+// in the index's quanta, and the row of `offsets` of its bin (−1: no cell's box reaches it).
 struct Query {
     const NormalBoundsTree& tree;
     Lattice lattice;
@@ -191,58 +389,67 @@ struct Query {
     Blur blur;
     double reach = 0.0;  // pixels a normal box is widened by: the blur's radius
     bool prune = true;
+    Pixel normal_quanta;
+    std::int64_t bin_row = -1;
 
     // The lattice's x of the unwrapped cell I (as the image computes it, from its origin).
     double cell_x(long long cell) const { return lattice.x0 + static_cast<double>(cell - first_x) * lattice.step_x; }
     double cell_y(long long cell) const { return lattice.y0 + static_cast<double>(cell - first_y) * lattice.step_y; }
 
-    // Σ mass / image area over the triangles of texel cell (i, j) placed at unwrapped (I, J).
-    double cell_density(int i, int j, long long unwrapped_i, long long unwrapped_j) const {
-        const TexelGrid& grid = tree.grid;
-        const std::size_t cell = static_cast<std::size_t>(j) * grid.cols + i;
-        const int n = tree.subdivision[cell];
-        const double x = cell_x(unwrapped_i), y = cell_y(unwrapped_j);
-        const double h = lattice.step_x / n, k = lattice.step_y / n;
-        const double half_area = 0.5 * h * k;
-        const auto pair = [&](Pixel p00, Pixel p10, Pixel p01, Pixel p11, double xa, double yb) {
-            const double lower = half_area * weight(xa + h * (2.0 / 3.0), yb + k / 3.0);
-            const double upper = half_area * weight(xa + h / 3.0, yb + k * (2.0 / 3.0));
+    // Σ mass / image area over the triangles of texel cell (i, j) placed at unwrapped (I, J);
+    // pruned, a divided cell evaluates only the sub-corners of sub-cells whose blended corners'
+    // box, widened by the cell's stray (pixels) and the reach, holds the normal.
+    double cell_density(int i, int j, long long unwrapped_i, long long unwrapped_j, int n) const {
+        const SubCells cells{weight, cell_x(unwrapped_i), cell_y(unwrapped_j), lattice.step_x / n, lattice.step_y / n};
+        // Centroid weights only of triangles whose spread reaches the normal: exp is costly.
+        const auto pair = [&](Pixel p00, Pixel p10, Pixel p01, Pixel p11, int a, int b) {
             double sum = 0.0;
-            if (lower > 0.0) sum += triangle_density(p00, p10, p11, lower, normal, blur);
-            if (upper > 0.0) sum += triangle_density(p00, p11, p01, upper, normal, blur);
+            const double lower = triangle_spread(p00, p10, p11, normal, blur);
+            if (lower > 0.0) sum += lower * cells.lower(a, b);
+            const double upper = triangle_spread(p00, p11, p01, normal, blur);
+            if (upper > 0.0) sum += upper * cells.upper(a, b);
             return sum;
         };
-        if (n == 1) {
-            const int right = i + 1 == grid.cols ? 0 : i + 1;
-            const std::size_t above = static_cast<std::size_t>(j + 1 == grid.rows ? 0 : j + 1) * grid.cols;
-            const std::size_t row = static_cast<std::size_t>(j) * grid.cols;
-            return pair(tree.samples[row + i], tree.samples[row + right], tree.samples[above + i],
-                        tree.samples[above + right], x, y);
-        }
-        // Scratch kept per thread: no allocation once a thread has met its largest subdivision.
-        thread_local std::vector<SurfacePoint> points;
-        thread_local std::vector<Pixel> pixels;
-        image_sub_corners(tree, i, j, n, points, pixels);
-        const Pixel* p = pixels.data();
-        const std::size_t stride = static_cast<std::size_t>(n) + 1;
+        const CellCorners c = cell_corners(tree, i, j);
+        if (n == 1) return pair(c.p00, c.p10, c.p01, c.p11, 0, 0);
+        const CellPatch patch(tree, i, j);
+        const SubCorners corners(patch, c, n);
+        const std::array<std::uint16_t, 4>& strays = tree.quadrant_strays[static_cast<std::size_t>(j) * tree.grid.cols + i];
         double sum = 0.0;
-        for (int b = 0; b < n; ++b)
-            for (int a = 0; a < n; ++a) {
-                const std::size_t q = b * stride + a;
-                if (prune && !quad_holds(p[q], p[q + 1], p[q + stride], p[q + stride + 1])) continue;
-                sum += pair(p[q], p[q + 1], p[q + stride], p[q + stride + 1], x + a * h, y + b * k);
+        for (int q = 0; q < 4; ++q) {
+            const Quadrant r = quadrant(n, q);
+            const Pixel q00 = corners.at(r.a0, r.b0), q10 = corners.at(r.a1, r.b0);
+            const Pixel q01 = corners.at(r.a0, r.b1), q11 = corners.at(r.a1, r.b1);
+            const double widening = strays[q] * tree.quantum + reach;
+            if (prune && !quad_holds(q00, q10, q01, q11, widening)) continue;
+            const double width = r.a1 - r.a0, height = r.b1 - r.b0;
+            for (int b = r.b0; b < r.b1; ++b) {
+                // The blend along sub-rows b and b + 1: linear in a from the quadrant's left edge to its right.
+                const double t0 = (b - r.b0) / height, t1 = (b + 1 - r.b0) / height;
+                const Pixel left0 = bilinear(q00, q10, q01, q11, 0.0, t0), right0 = bilinear(q00, q10, q01, q11, 1.0, t0);
+                const Pixel left1 = bilinear(q00, q10, q01, q11, 0.0, t1), right1 = bilinear(q00, q10, q01, q11, 1.0, t1);
+                const auto along = [&](Pixel l, Pixel rr, int a) {
+                    const double f = (a - r.a0) / width;
+                    return Pixel{l.u + f * (rr.u - l.u), l.v + f * (rr.v - l.v)};
+                };
+                for (int a = r.a0; a < r.a1; ++a) {
+                    if (prune && !quad_holds(along(left0, right0, a), along(left0, right0, a + 1), along(left1, right1, a),
+                                             along(left1, right1, a + 1), widening))
+                        continue;
+                    const Pixel p00 = corners.at(a, b), p10 = corners.at(a + 1, b);
+                    const Pixel p01 = corners.at(a, b + 1), p11 = corners.at(a + 1, b + 1);
+                    if (prune && !quad_holds(p00, p10, p01, p11, reach)) continue;
+                    sum += pair(p00, p10, p01, p11, a, b);
+                }
             }
+        }
         return sum;
     }
 
-    bool holds(const NormalBox& box) const {
-        return normal.u >= box.u_low - reach && normal.u <= box.u_high + reach && normal.v >= box.v_low - reach &&
-               normal.v <= box.v_high + reach;
-    }
-    // Whether a sub-cell's corners' bounding box, widened by the reach, holds the normal.
-    bool quad_holds(Pixel a, Pixel b, Pixel c, Pixel d) const {
-        return normal.u >= std::min({a.u, b.u, c.u, d.u}) - reach && normal.u <= std::max({a.u, b.u, c.u, d.u}) + reach &&
-               normal.v >= std::min({a.v, b.v, c.v, d.v}) - reach && normal.v <= std::max({a.v, b.v, c.v, d.v}) + reach;
+    // Whether the corners' bounding box, widened by `by` pixels, holds the normal.
+    bool quad_holds(Pixel a, Pixel b, Pixel c, Pixel d, double by) const {
+        return normal.u >= std::min({a.u, b.u, c.u, d.u}) - by && normal.u <= std::max({a.u, b.u, c.u, d.u}) + by &&
+               normal.v >= std::min({a.v, b.v, c.v, d.v}) - by && normal.v <= std::max({a.v, b.v, c.v, d.v}) + by;
     }
 
     // Whether the unwrapped cells [x0, x1) × [y0, y1) lie wholly beyond the weight's cutoff.
@@ -254,58 +461,78 @@ struct Query {
         return dx * dx + dy * dy > weight.cutoff_squared * (1.0 + 1e-9);
     }
 
-    // Whether node (i, j) of a level with this box, whose cells are [lo, hi) clipped to the
-    // piece, may contribute.
-    bool may_contribute(const NormalBox& box, int lo_x, int hi_x, int lo_y, int hi_y, long long ox, long long oy) const {
-        if (lo_x >= hi_x || lo_y >= hi_y) return false;
-        return !prune || (holds(box) && !beyond_cutoff(lo_x + ox, hi_x + ox, lo_y + oy, hi_y + oy));
-    }
-
-    // The cells of the field [x0, x1) × [y0, y1), which stand at unwrapped (I + ox, J + oy):
-    // depth first through the levels, testing a node's four children together and skipping
-    // those that cannot contribute; cells are summed in the same order with pruning or without.
+    // The cells of the field [x0, x1) × [y0, y1), which stand at unwrapped (I + ox, J + oy), tile
+    // by tile and in each tile row by row; pruned, only the cells of the normal's bin whose box
+    // holds it and which reach within the cutoff (the others' triangles add exactly 0).
     double piece(int x0, int x1, int y0, int y1, long long ox, long long oy) const {
-        struct Node {
-            int level, i, j;
-        };
-        const int top_level = static_cast<int>(tree.level_cols.size()) - 1;
-        const auto clipped = [&](int level, int i, int j, int& lo_x, int& hi_x, int& lo_y, int& hi_y) {
-            lo_x = std::max(x0, i << level), hi_x = std::min(x1, (i + 1) << level);
-            lo_y = std::max(y0, j << level), hi_y = std::min(y1, (j + 1) << level);
-        };
-        int lo_x, hi_x, lo_y, hi_y;
-        clipped(top_level, 0, 0, lo_x, hi_x, lo_y, hi_y);
-        if (!may_contribute(tree.root, lo_x, hi_x, lo_y, hi_y, ox, oy)) return 0.0;
-        if (top_level == 0) return cell_density(0, 0, ox, oy);
-        std::array<Node, 4 * 40> stack;
-        int top = 0;
-        stack[top++] = {top_level, 0, 0};
+        const int side = NormalBoundsTree::kTileCells;
+        const std::size_t stride = static_cast<std::size_t>(tree.tile_cols) * tree.tile_rows + 1;
         double sum = 0.0;
-        while (top > 0) {
-            const Node node = stack[--top];
-            const NormalBoundsTree::Children& block =
-                tree.children[node.level - 1][static_cast<std::size_t>(node.j) * tree.level_cols[node.level] + node.i];
-            const int child_level = node.level - 1;
-            Node passed[4];
-            int count = 0;
-            for (int b = 0; b < 2; ++b)
-                for (int a = 0; a < 2; ++a) {
-                    const int i = 2 * node.i + a, j = 2 * node.j + b;
-                    clipped(child_level, i, j, lo_x, hi_x, lo_y, hi_y);
-                    if (may_contribute(block.boxes[2 * b + a], lo_x, hi_x, lo_y, hi_y, ox, oy))
-                        passed[count++] = {child_level, i, j};
+        for (int tile_y = y0 / side; tile_y * side < y1; ++tile_y)
+            for (int tile_x = x0 / side; tile_x * side < x1; ++tile_x) {
+                const int lo_x = std::max(x0, tile_x * side), hi_x = std::min(x1, (tile_x + 1) * side);
+                const int lo_y = std::max(y0, tile_y * side), hi_y = std::min(y1, (tile_y + 1) * side);
+                if (!prune) {
+                    for (int j = lo_y; j < hi_y; ++j)
+                        for (int i = lo_x; i < hi_x; ++i) sum += cell_density(i, j, i + ox, j + oy, tree.subdivision[static_cast<std::size_t>(j) * tree.grid.cols + i]);
+                    continue;
                 }
-            if (child_level == 0) {
-                for (int k = 0; k < count; ++k) sum += cell_density(passed[k].i, passed[k].j, passed[k].i + ox, passed[k].j + oy);
-                continue;
+                if (bin_row < 0 || beyond_cutoff(lo_x + ox, hi_x + ox, lo_y + oy, hi_y + oy)) continue;
+                const std::size_t t = static_cast<std::size_t>(tile_y) * tree.tile_cols + tile_x;
+                const std::uint32_t begin = tree.offsets[bin_row * stride + t], end = tree.offsets[bin_row * stride + t + 1];
+                // The tile's candidates first, their samples' images and strays prefetched, so
+                // that their cache misses overlap instead of following one another.
+                struct Candidate {
+                    int i, j, n;
+                };
+                std::array<Candidate, 64> candidates;
+                int count = 0;
+                const auto flush = [&] {
+                    for (int k = 0; k < count; ++k) {
+                        const Candidate& c = candidates[k];
+                        sum += cell_density(c.i, c.j, c.i + ox, c.j + oy, c.n);
+                    }
+                    count = 0;
+                };
+                for (std::uint32_t e = begin; e < end; ++e) {
+                    const BinnedCell& entry = tree.cells[e];
+                    if (normal_quanta.u < entry.u_low || normal_quanta.u > entry.u_high || normal_quanta.v < entry.v_low ||
+                        normal_quanta.v > entry.v_high)
+                        continue;
+                    const int place = entry.place >> 6;
+                    const int i = tile_x * side + place % side, j = tile_y * side + place / side;
+                    if (i < lo_x || i >= hi_x || j < lo_y || j >= hi_y || beyond_cutoff(i + ox, i + 1 + ox, j + oy, j + 1 + oy))
+                        continue;
+                    const std::size_t cell = static_cast<std::size_t>(j) * tree.grid.cols + i;
+                    const int above = j + 1 == tree.grid.rows ? 0 : j + 1;
+                    __builtin_prefetch(&tree.samples[cell]);
+                    __builtin_prefetch(&tree.samples[static_cast<std::size_t>(above) * tree.grid.cols + i]);
+                    const int n = (entry.place & 63) + 1;
+                    if (n > 1 && tree.grid.rows > 2) {
+                        __builtin_prefetch(&tree.quadrant_strays[cell]);
+                        for (int m = -1; m <= 2; ++m) {
+                            const int row = j + m < 0 ? j + m + tree.grid.rows : j + m >= tree.grid.rows ? j + m - tree.grid.rows : j + m;
+                            __builtin_prefetch(tree.surface->sample_row(row) + std::max(0, i - 1));
+                        }
+                    }
+                    candidates[count++] = {i, j, n};
+                    if (count == static_cast<int>(candidates.size())) flush();
+                }
+                flush();
             }
-            while (count > 0) stack[top++] = passed[--count];  // reversed: popped in order
-        }
         return sum;
     }
 };
 
 long long floor_div(long long a, long long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// The unwrapped index of a lattice's first cell along one axis (the lattice runs through the samples).
+long long first_cell(double origin, double texel) { return std::llround((origin - 0.5 * texel) / texel); }
+
+// The footprint weight of the truncated domain: a Gaussian truncated at K σ keeps 1 − e^{−K²/2}.
+double truncated_weight(const Footprint& footprint) {
+    return footprint.shape == FootprintShape::gaussian ? 1.0 - std::exp(-0.5 * kTruncationSigmas * kTruncationSigmas) : 1.0;
+}
 
 }  // namespace
 
@@ -318,7 +545,7 @@ NormalBoundsTree make_normal_bounds_tree(std::shared_ptr<const BicubicInterpolan
     tree.intrinsic_roughness = settings.intrinsic_roughness;
     tree.surface = std::move(surface);
     image_samples(*tree.surface, settings, tree);
-    build_levels(tree);
+    build_bins(tree, blur_for(tree.intrinsic_roughness, tree.resolution).radius);
     return tree;
 }
 
@@ -330,15 +557,21 @@ double point_normal_density(const NormalBoundsTree& tree, const Footprint& footp
     const TexelGrid& grid = tree.grid;
     const Lattice lattice = lattice_for(grid, footprint);
     const Blur blur = blur_for(tree.intrinsic_roughness, tree.resolution);
-    const Query query{tree,
-                      lattice,
-                      weight_for(grid, footprint),
-                      std::llround((lattice.x0 - 0.5 * grid.dx_um) / grid.dx_um),
-                      std::llround((lattice.y0 - 0.5 * grid.dy_um) / grid.dy_um),
-                      {(normal.x + 1.0) * half_resolution, (1.0 - normal.y) * half_resolution},
-                      blur,
-                      blur.radius,
-                      pruning == Pruning::on};
+    const Pixel pixel{(normal.x + 1.0) * half_resolution, (1.0 - normal.y) * half_resolution};
+    Query query{tree,
+                lattice,
+                weight_for(grid, footprint),
+                first_cell(lattice.x0, grid.dx_um),
+                first_cell(lattice.y0, grid.dy_um),
+                pixel,
+                blur,
+                blur.radius,
+                pruning == Pruning::on,
+                {(pixel.u - tree.origin) / tree.quantum, (pixel.v - tree.origin) / tree.quantum}};
+    const double bin_u = std::floor((pixel.u - tree.origin) / tree.bin_pixels);
+    const double bin_v = std::floor((pixel.v - tree.origin) / tree.bin_pixels);
+    if (bin_u >= 0.0 && bin_v >= 0.0 && bin_u < tree.bins_across && bin_v < tree.bins_across)
+        query.bin_row = tree.bin_rows[static_cast<std::size_t>(bin_v) * tree.bins_across + static_cast<std::size_t>(bin_u)];
     // The unwrapped cells [first, first + n) in pieces of one tile each, in the image's order.
     double sum = 0.0;
     const long long last_y = query.first_y + query.lattice.ny, last_x = query.first_x + query.lattice.nx;
@@ -351,11 +584,91 @@ double point_normal_density(const NormalBoundsTree& tree, const Footprint& footp
             const int y1 = static_cast<int>(std::min(last_y, oy + grid.rows) - oy);
             sum += query.piece(x0, x1, y0, y1, ox, oy);
         }
-    // The footprint weight of the truncated domain: a Gaussian truncated at K σ keeps 1 − e^{−K²/2}.
-    const double total = footprint.shape == FootprintShape::gaussian
-                             ? 1.0 - std::exp(-0.5 * kTruncationSigmas * kTruncationSigmas)
-                             : 1.0;
-    return sum * half_resolution * half_resolution / total;
+    return sum * half_resolution * half_resolution / truncated_weight(footprint);
+}
+
+NormalSampler make_normal_sampler(const NormalBoundsTree& tree, const Footprint& footprint) {
+    if (!answers_points(footprint)) throw Error("normals are drawn from the point query for Gaussian and whole-field footprints, not a box");
+    if (tree.intrinsic_roughness > 0.0) throw Error("normals are drawn from the point query without intrinsic roughness only");
+    const TexelGrid& grid = tree.grid;
+    NormalSampler sampler;
+    sampler.footprint = footprint;
+    sampler.lattice = lattice_for(grid, footprint);
+    sampler.weight = weight_for(grid, footprint);
+    sampler.first_x = first_cell(sampler.lattice.x0, grid.dx_um);
+    sampler.first_y = first_cell(sampler.lattice.y0, grid.dy_um);
+    const Lattice& lattice = sampler.lattice;
+    sampler.cumulative.resize(static_cast<std::size_t>(lattice.nx * lattice.ny));
+    double sum = 0.0;
+    for (long long cj = 0; cj < lattice.ny; ++cj)
+        for (long long ci = 0; ci < lattice.nx; ++ci) {
+            const int i = static_cast<int>((sampler.first_x + ci) - floor_div(sampler.first_x + ci, grid.cols) * grid.cols);
+            const int j = static_cast<int>((sampler.first_y + cj) - floor_div(sampler.first_y + cj, grid.rows) * grid.rows);
+            const int n = tree.subdivision[static_cast<std::size_t>(j) * grid.cols + i];
+            const SubCells cells{sampler.weight, lattice.x0 + static_cast<double>(ci) * lattice.step_x,
+                                 lattice.y0 + static_cast<double>(cj) * lattice.step_y, lattice.step_x / n, lattice.step_y / n};
+            const Weight& w = sampler.weight;
+            const double far_x = std::max(std::abs(cells.x - w.centre.x), std::abs(cells.x + lattice.step_x - w.centre.x));
+            const double far_y = std::max(std::abs(cells.y - w.centre.y), std::abs(cells.y + lattice.step_y - w.centre.y));
+            const bool within = w.shape == FootprintShape::gaussian && far_x * far_x + far_y * far_y < w.cutoff_squared;
+            sum += within ? separable_cell_weight(cells, n) : cell_weight(cells, n);
+            sampler.cumulative[static_cast<std::size_t>(cj * lattice.nx + ci)] = sum;
+        }
+    if (!(sum > 0.0)) throw Error("the footprint weighs no triangle of the field");
+    sampler.density_scale = truncated_weight(footprint) / sum;
+    return sampler;
+}
+
+std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const NormalSampler& sampler, double u1, double u2) {
+    // A cell by its weight (u1), a triangle of it by its weight (u1's remainder), a uniform
+    // point of the triangle's image (that remainder and u2).
+    const std::vector<double>& cumulative = sampler.cumulative;
+    const double target = u1 * cumulative.back();
+    const std::size_t cell = std::min<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), target) - cumulative.begin(),
+                                                   cumulative.size() - 1);
+    const double before = cell == 0 ? 0.0 : cumulative[cell - 1];
+    const double remainder = std::clamp((target - before) / (cumulative[cell] - before), 0.0, 1.0);
+    const TexelGrid& grid = tree.grid;
+    const Lattice& lattice = sampler.lattice;
+    const long long ci = static_cast<long long>(cell) % lattice.nx, cj = static_cast<long long>(cell) / lattice.nx;
+    const int i = static_cast<int>((sampler.first_x + ci) - floor_div(sampler.first_x + ci, grid.cols) * grid.cols);
+    const int j = static_cast<int>((sampler.first_y + cj) - floor_div(sampler.first_y + cj, grid.rows) * grid.rows);
+    const int n = tree.subdivision[static_cast<std::size_t>(j) * grid.cols + i];
+    const SubCells cells{sampler.weight, lattice.x0 + static_cast<double>(ci) * lattice.step_x,
+                         lattice.y0 + static_cast<double>(cj) * lattice.step_y, lattice.step_x / n, lattice.step_y / n};
+    // The triangle: 2(b·n + a) + (0 lower, 1 upper), where the running weight passes the goal.
+    const double goal = remainder * cell_weight(cells, n);
+    double running = 0.0, share = 0.0;
+    int chosen = -1;
+    for (int t = 0; t < 2 * n * n && chosen < 0; ++t) {
+        const int a = (t / 2) % n, b = (t / 2) / n;
+        const double w = t % 2 == 0 ? cells.lower(a, b) : cells.upper(a, b);
+        if (w > 0.0 && (running + w > goal || t == 2 * n * n - 1)) chosen = t, share = std::clamp((goal - running) / w, 0.0, 1.0);
+        running += w;
+    }
+    if (chosen < 0) return std::nullopt;
+    const int a = (chosen / 2) % n, b = (chosen / 2) / n;
+    const CellCorners c = cell_corners(tree, i, j);
+    Pixel p00 = c.p00, p10 = c.p10, p01 = c.p01, p11 = c.p11;
+    if (n > 1) {
+        const CellPatch patch(tree, i, j);
+        const SubCorners corners(patch, c, n);
+        p00 = corners.at(a, b), p10 = corners.at(a + 1, b), p01 = corners.at(a, b + 1), p11 = corners.at(a + 1, b + 1);
+    }
+    const Pixel first = p00, second = chosen % 2 == 0 ? p10 : p11, third = chosen % 2 == 0 ? p11 : p01;
+    // A uniform point of the triangle: √s spreads the barycentric mass evenly (Turk 1990).
+    const double root = std::sqrt(share);
+    const Pixel point{(1.0 - root) * first.u + root * (1.0 - u2) * second.u + root * u2 * third.u,
+                      (1.0 - root) * first.v + root * (1.0 - u2) * second.v + root * u2 * third.v};
+    if (!(triangle_spread(first, second, third, point, Blur{}) > 0.0)) return std::nullopt;
+    const double half_resolution = 0.5 * tree.resolution;
+    const DiskPoint normal{point.u / half_resolution - 1.0, 1.0 - point.v / half_resolution};
+    if (!inside_unit_disk(normal)) return std::nullopt;
+    return normal;
+}
+
+double sampled_normal_density(const NormalBoundsTree& tree, const NormalSampler& sampler, DiskPoint normal) {
+    return point_normal_density(tree, sampler.footprint, normal) * sampler.density_scale;
 }
 
 }  // namespace glintscope

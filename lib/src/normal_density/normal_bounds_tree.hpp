@@ -6,10 +6,17 @@
 //
 // Built once per interpolant, settings and image resolution (the resolution fixes the pixel
 // units of the adaptive subdivision's tolerance, so the triangles are exactly the image's): the
-// normal images of every texel sample, each texel's subdivision (a divided texel's sub-corners
-// are evaluated again by the query that reaches it), and a quadtree over the texel cells (mip levels, like GaborSurface's) whose nodes hold the bounding
-// box of their triangles' normal images. A query visits only the nodes that overlap the
-// footprint's truncated support and whose box holds the normal:
+// normal images of every texel sample, each texel's subdivision n, and a two-level index over
+// the texel cells: tiles of 32 × 32 cells in space, bins of normal space per tile, each bin
+// listing (in the tile's row-major order) the cells whose normal box overlaps it, with the box
+// inline. A query reads, per tile of the footprint's truncated support, only the list of h's
+// bin: a few contiguous cache lines, and independent misses after it (no chain of node visits).
+// A divided cell's (n + 1)² sub-corners are not stored (a gigabyte per 1024² of field at the
+// defaults); per quadrant (split at ⌊n/2⌋) the cell keeps its stray, the largest distance of a
+// sub-corner's image from the bilinear blend of the quadrant's corner images, so that a query
+// evaluates the quadrants' corners and then only the sub-corners of sub-cells whose blended box,
+// widened by the stray, holds h, from the cell's 4 × 4 samples read once (the image's values up
+// to rounding).
 //   D(h) = Σ over triangles whose image holds h of weight(centroid) · area / image area,
 // divided by the footprint weight of the truncated domain (1 − e^{−K²/2} for a Gaussian), so
 // that ∫ D dA_disk = 1 as the image's Σ D (2/N)² = 1 (the image also absorbs the centroid rule's
@@ -29,6 +36,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "glintscope/core/geometry.hpp"
@@ -39,39 +47,39 @@
 
 namespace glintscope {
 
-// A bounding box of normal images in pixel units (u along columns, v down rows), rounded outward.
-struct NormalBox {
-    float u_low = 0.0f;
-    float u_high = 0.0f;
-    float v_low = 0.0f;
-    float v_high = 0.0f;
+// A cell's entry in a bin: its place in the tile, its subdivision and its normal box (widened by
+// the blur's reach), in quanta of NormalBoundsTree::quantum pixels
+// from NormalBoundsTree::origin, rounded outward.
+struct BinnedCell {
+    std::uint16_t place = 0;  // (local row · 32 + local column) << 6 | (n − 1)
+    std::uint16_t u_low = 0, u_high = 0, v_low = 0, v_high = 0;
 };
 
 struct NormalBoundsTree {
+    static constexpr int kTileCells = 32;  // tiles of kTileCells × kTileCells texel cells
     TexelGrid grid;
     int resolution = 0;  // the pixel units of the normal images: those of an image of this resolution
     double intrinsic_roughness = 0.0;
     // Normal images, pixel units: sample (c, j) at j·cols + c (y-up rows, at ((c + ½)dx, (j + ½)dx)).
     std::vector<Pixel> samples;
-    // Per texel cell (i, j) between samples (i, j) and (i + 1, j + 1), at j·cols + i: its
-    // subdivision n. A divided cell's (n + 1)² sub-corners are evaluated again when a query
-    // reaches it (the same calls as the image's, so the same values): on the isotropic builtin
-    // at the 256² defaults most texels are divided 5–9 times, and storing their corners would
-    // take a gigabyte per 1024² of field.
+    // Per texel cell (i, j) between samples (i, j) and (i + 1, j + 1), at j·cols + i: its subdivision n.
     std::vector<std::uint8_t> subdivision;
+    // Per cell as `subdivision`: a divided cell's quadrants' strays, in quanta (below), rounded up.
+    std::vector<std::array<std::uint16_t, 4>> quadrant_strays;
     std::shared_ptr<const BicubicInterpolant> surface;
-    // Level 0 holds one node per texel cell, level k one per block of 2^k × 2^k cells,
-    // level_cols[k] × level_rows[k] of them (ceil of the halving), up to a 1 × 1 level.
-    // children[k − 1][j·level_cols[k] + i] holds the boxes of node (i, j)'s children (level k − 1)
-    // together, as 4 × 16 bytes in one cache line: a query's cost is its cache misses (the
-    // boxes of a 1024² field take 21 MB), one per node whose children it tests. A child past the
-    // field's edge has an empty box.
-    struct alignas(64) Children {
-        std::array<NormalBox, 4> boxes;  // child (2i + a, 2j + b) at 2b + a
-    };
-    std::vector<std::vector<Children>> children;
-    std::vector<int> level_cols, level_rows;
-    NormalBox root;
+    // Tiles: tile (tx, ty) at ty·tile_cols + tx holds cells [32 tx, 32 tx + 32) × [32 ty, …).
+    int tile_cols = 0, tile_rows = 0;
+    // Bins of normal space: bin (bu, bv) covers u in origin + [bu, bu + 1)·bin_pixels (v alike),
+    // bins_across per axis over the widened boxes; bin_rows[bv·bins_across + bu] is the bin's row
+    // of `offsets`, or −1 for a bin no cell overlaps.
+    double origin = 0.0;
+    double bin_pixels = 1.0;
+    double quantum = 1.0;
+    int bins_across = 0;
+    std::vector<std::int32_t> bin_rows;
+    // Row r's entries of tile t are cells[offsets[r·(tiles + 1) + t] … offsets[r·(tiles + 1) + t + 1]).
+    std::vector<std::uint32_t> offsets;
+    std::vector<BinnedCell> cells;
 };
 
 // Throws Error on bad settings or resolution as normal_density() does.
@@ -89,5 +97,32 @@ inline bool answers_points(const Footprint& footprint) { return footprint.shape 
 // 0 outside the disk. Throws Error for a box footprint.
 double point_normal_density(const NormalBoundsTree& tree, const Footprint& footprint, DiskPoint normal,
                             Pruning pruning = Pruning::on);
+
+// Normals drawn with the density of the point query for one footprint (no intrinsic roughness):
+// the D(h) of the point query is the push-forward of the footprint weight through the piecewise
+// affine normal map, so a draw picks a texel cell of the support by its weight (Σ of its
+// triangles' centroid weight × area), a triangle of it by its weight, and a uniform point of
+// the triangle's image. Built once per footprint (its cost is one pass over the support's
+// triangles' centroids, no normals evaluated); immutable, safe from many threads.
+struct NormalSampler {
+    Footprint footprint;
+    Lattice lattice;
+    Weight weight;
+    long long first_x = 0, first_y = 0;
+    std::vector<double> cumulative;  // running Σ of the lattice cells' weights, row by row
+    // What the point query's D divides by (the truncated footprint weight) over what the
+    // triangles weigh (the centroid rule's Σ): sampled density per disk area = D(h) × this.
+    double density_scale = 1.0;
+};
+
+// Throws Error for a box footprint or a tree with intrinsic roughness.
+NormalSampler make_normal_sampler(const NormalBoundsTree& tree, const Footprint& footprint);
+
+// A normal from two uniforms in [0, 1); none where the drawn triangle's image is a segment (the
+// point query gives it no density) or the draw leaves the disk.
+std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const NormalSampler& sampler, double u1, double u2);
+
+// The density per unit disk area with which sample_normal draws h.
+double sampled_normal_density(const NormalBoundsTree& tree, const NormalSampler& sampler, DiskPoint normal);
 
 }  // namespace glintscope

@@ -1,18 +1,22 @@
 // The point query of the exact normal density against its image: the image's pixel is the mean
 // of the point query over the pixel, point values at pixel centres match a smooth surface's
 // image, ∫ D dA = 1, a tilted plane's D sits at its normal, pruning changes nothing, threads
-// change nothing, a footprint straddling the field's edge reads the tiles on both sides, and
-// intrinsic roughness matches the image's blur.
+// change nothing, a footprint straddling the field's edge reads the tiles on both sides,
+// intrinsic roughness matches the image's blur, and the sampler's draws of h fall in the image's
+// pixels with their masses.
 #include "normal_density/normal_bounds_tree.hpp"
 
 #include <gtest/gtest.h>
 
 #include "relative_l2.hpp"
+#include "disk_chi_square.hpp"
+#include "core/counter_rng.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <thread>
 
 #include "glintscope/core/error.hpp"
@@ -219,6 +223,37 @@ TEST(NormalBoundsTree, IntrinsicRoughnessMatchesTheBlurredImage) {
     EXPECT_LT(error, 0.01);
 }
 
+TEST(NormalBoundsTree, SampledNormalsFallInTheImagesPixelsWithTheirMass) {
+    // The sampler draws the point query's triangles by weight and a uniform point of each image:
+    // the probability of an image pixel is then its exact coverage, the image's pixel mass
+    // D (2/N)² (both renormalised: the image by its sum, the sampler by the triangles' weight).
+    // χ² of 10⁶ draws over the N² pixels on a rough surface with folds, adaptive subdivision;
+    // and the density the sampler reports is the point query's D times what its weights sum to.
+    const auto surface = std::make_shared<const BicubicInterpolant>(isotropic_field(96));
+    const Footprint footprint = gaussian_at({40.0, 50.0}, 8.0);
+    const int n = 32;
+    const NormalDensitySettings settings;
+    const std::vector<double> image = normal_density(*surface, footprint, n, settings);
+    const NormalBoundsTree tree = make_normal_bounds_tree(surface, settings, n);
+    const NormalSampler sampler = make_normal_sampler(tree, footprint);
+    const testing::DiskChiSquare chi_square{n, 1'000'000};
+    const CounterRng rng(23, 1);
+    const std::vector<long> observed = chi_square.histogram(testing::Grid::omega_o, {0.0, 0.0, 1.0}, [&](long k) -> std::optional<Vec3> {
+        const std::optional<DiskPoint> h = sample_normal(tree, sampler, rng.uniform(2 * k), rng.uniform(2 * k + 1));
+        if (!h) return std::nullopt;
+        return direction_from_disk(h->x, h->y);
+    });
+    std::vector<double> expected(image.size() + 1, 0.0);
+    for (std::size_t k = 0; k < image.size(); ++k) expected[k] = image[k] * disk_pixel_area(n);
+    const double p = chi_square.p_value(observed, expected);
+    RecordProperty("p_value", ::testing::PrintToString(p));
+    EXPECT_GT(p, 0.01);
+    for (int k = 0; k < 50; ++k) {
+        const DiskPoint h{0.3 * std::cos(0.7 * k), 0.3 * std::sin(1.1 * k)};
+        EXPECT_NEAR(sampled_normal_density(tree, sampler, h), point_normal_density(tree, footprint, h), 1e-4 * point_normal_density(tree, footprint, h));
+    }
+}
+
 TEST(NormalBoundsTree, BoxFootprintsAndBadSettingsAreRefused) {
     const auto surface = std::make_shared<const BicubicInterpolant>(isotropic_field(32));
     const NormalBoundsTree tree = make_normal_bounds_tree(surface, {}, 32);
@@ -226,6 +261,8 @@ TEST(NormalBoundsTree, BoxFootprintsAndBadSettingsAreRefused) {
     box.shape = FootprintShape::box;
     box.size_um = 10.0;
     EXPECT_THROW(point_normal_density(tree, box, {0.0, 0.0}), Error);
+    EXPECT_THROW(make_normal_sampler(tree, box), Error);
+    EXPECT_THROW(make_normal_sampler(make_normal_bounds_tree(surface, {1, 0.02, 0.05}, 32), gaussian_at({1.0, 2.0}, 5.0)), Error);
     EXPECT_THROW(make_normal_bounds_tree(surface, {0, 0.02, 0.0}, 32), Error);
     EXPECT_THROW(make_normal_bounds_tree(surface, {1, 0.02, NAN}, 32), Error);
 }

@@ -6,6 +6,8 @@
 #include <string>
 
 #include <memory>
+#include <mutex>
+#include <optional>
 
 #include "normal_density/microfacet_answers.hpp"
 #include "normal_density/normal_bounds_tree.hpp"
@@ -320,8 +322,30 @@ PointAnswers geometric_point(const LobeQuery& query) {
     return microfacet_answers({density_table(query, settings), refractive_indices(query), {}}, query.wavelengths_um.size());
 }
 
+// A footprint's normal sampler, made on the first draw or pdf (eval alone, a renderer's shading
+// point, never pays for it) and then shared by every thread.
+class LazyNormalSampler {
+public:
+    LazyNormalSampler(std::shared_ptr<const NormalBoundsTree> tree, const Footprint& footprint)
+        : tree_(std::move(tree)), footprint_(footprint) {}
+
+    const NormalSampler& get() const {
+        std::call_once(once_, [&] { sampler_ = make_normal_sampler(*tree_, footprint_); });
+        return sampler_;
+    }
+    const NormalBoundsTree& tree() const { return *tree_; }
+
+private:
+    std::shared_ptr<const NormalBoundsTree> tree_;
+    Footprint footprint_;
+    mutable std::once_flag once_;
+    mutable NormalSampler sampler_;
+};
+
 // f_r for any footprint from one tree over the field: the point query of the same triangles
-// as the internal table of point-sampled pixels, read at h itself rather than bilinearly.
+// as the internal table of point-sampled pixels, read at h itself rather than bilinearly; without
+// intrinsic roughness also its sampler: h drawn with the point query's own density
+// (make_normal_sampler), ω_o = reflect(ω_i, h), pdf = that density × the half-vector Jacobian.
 // Shadowing needs the footprint's whole NDF (Smith's integral, the ellipsoid fit), and a box's
 // lattice is not the texels': those are answered from the images.
 PointAnswersAt geometric_point_field(const LobeQuery& query) {
@@ -335,12 +359,25 @@ PointAnswersAt geometric_point_field(const LobeQuery& query) {
     const std::size_t layers = query.wavelengths_um.size();
     return [tree, indices, layers](const Footprint& footprint) -> PointAnswers {
         if (!answers_points(footprint)) return {};
-        return {[tree, indices, layers, footprint](Vec3 omega_i, Vec3 omega_o) {
-                    const Vec3 h = normalize(omega_i + omega_o);
-                    return microfacet_value(point_normal_density(*tree, footprint, {h.x, h.y}), 1.0, omega_i, omega_o, h,
-                                            indices, layers);
-                },
-                {}, {}};
+        PointAnswers answers;
+        answers.eval = [tree, indices, layers, footprint](Vec3 omega_i, Vec3 omega_o) {
+            const Vec3 h = normalize(omega_i + omega_o);
+            return microfacet_value(point_normal_density(*tree, footprint, {h.x, h.y}), 1.0, omega_i, omega_o, h, indices,
+                                    layers);
+        };
+        if (tree->intrinsic_roughness > 0.0) return answers;
+        auto sampler = std::make_shared<const LazyNormalSampler>(tree, footprint);
+        answers.sample = [sampler](Vec3 omega_i, double u1, double u2) -> DirectionSample {
+            const NormalSampler& normals = sampler->get();
+            const std::optional<DiskPoint> h = sample_normal(sampler->tree(), normals, u1, u2);
+            if (!h) return {};
+            return reflected_sample(omega_i, *h, sampled_normal_density(sampler->tree(), normals, *h));
+        };
+        answers.pdf = [sampler](Vec3 omega_i, Vec3 omega_o) {
+            const Vec3 h = normalize(omega_i + omega_o);
+            return reflection_pdf(sampled_normal_density(sampler->tree(), sampler->get(), {h.x, h.y}), h, omega_o);
+        };
+        return answers;
     };
 }
 

@@ -21,7 +21,9 @@
 // D_K table (normal_density/microfacet_answers.hpp); with shadowing, from the images.
 // Point field: f_r with D the point query of a normal-bounds tree over the (filtered) field at
 // N × ndf_oversampling (the triangles of the table of point-sampled pixels), for any Gaussian or
-// whole-field footprint; shadowing and box footprints: from the images.
+// whole-field footprint, sampled (without intrinsic roughness) by the point query's own sampler
+// (h by the footprint's triangle weights, ω_o = reflect(ω_i, h)); shadowing and box footprints:
+// from the images.
 #include "glintscope/lobe/query.hpp"
 #include "lobe/method.hpp"
 
