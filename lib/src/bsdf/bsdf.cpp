@@ -44,13 +44,12 @@ const MethodEntry& method_entry(const std::string& method) {
     throw Error("unknown method '" + method + "'");  // plan_lobe has named the known ones before
 }
 
-// The method's own single-direction answers for the planned query, if it has any: its point
-// query for any footprint (unless its footprints' Bsdf keeps the images), else for the query's
-// footprint.
+// The method's own single-direction answers for the planned query's footprint, if it has any:
+// its answers for one footprint, else its point field's at that footprint.
 PointAnswers point_answers(const std::string& method, const LobeQuery& planned) {
     const MethodEntry& entry = method_entry(method);
-    if (entry.point_field && !entry.bsdf_from_images) return entry.point_field(planned)(planned.footprint);
     if (entry.point) return entry.point(planned);
+    if (entry.point_field) return entry.point_field(planned)(planned.footprint);
     return {};
 }
 

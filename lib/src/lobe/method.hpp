@@ -18,13 +18,13 @@ using PointFieldFunction = PointAnswersAt (*)(const LobeQuery&);
 struct MethodEntry {
     MethodInfo info;
     MethodFunction compute = nullptr;  // answers every quantity in info.quantities
-    PointFunction point = nullptr;     // brdf for single directions; none: from the images (bsdf/)
-    PointFieldFunction point_field = nullptr;  // the same for any footprint, built once per heightfield
-    // Whether make_bsdf answers one footprint with `point` (or, without it, its images) although
-    // the method has a point field: a field that only evaluates (no sampler), or answers the
-    // continuous lobe where the images integrate over pixels, serves one-off footprints (renderers,
-    // BsdfField), while a footprint's own Bsdf keeps its own eval, sampler and pdf.
-    bool bsdf_from_images = false;
+    // brdf for single directions at one footprint, what make_bsdf answers with; a method may
+    // return none (e.g. for settings it answers only through its images).
+    PointFunction point = nullptr;
+    // The same for any footprint, built once per heightfield (BsdfField: renderers' one-off
+    // footprints); make_bsdf uses it only for a method without `point`. Without either, a BSDF
+    // answers from the method's images (bsdf/).
+    PointFieldFunction point_field = nullptr;
 };
 
 // Method options as values, with defaults when absent; each throws Error naming the option.

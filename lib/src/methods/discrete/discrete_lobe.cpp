@@ -322,7 +322,6 @@ MethodEntry discrete_method() {
     entry.compute = discrete_lobe;
     entry.point = discrete_point;
     entry.point_field = discrete_point_field;
-    entry.bsdf_from_images = true;  // a footprint's own Bsdf keeps its counting eval and Jakob's sampler
     return entry;
 }
 

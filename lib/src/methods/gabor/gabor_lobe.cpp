@@ -538,7 +538,6 @@ MethodEntry gabor_method() {
             gabor_point_field};
     // One kernel grid step along both axes (kernel_grid): rectangular texels are resampled first.
     entry.info.needs_square_texels = true;
-    entry.bsdf_from_images = true;  // a footprint's Bsdf evaluates through its own slope index
     return entry;
 }
 

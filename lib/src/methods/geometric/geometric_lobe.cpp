@@ -401,7 +401,6 @@ MethodEntry geometric_method() {
     entry.compute = geometric_lobe;
     entry.point = geometric_point;
     entry.point_field = geometric_point_field;
-    entry.bsdf_from_images = true;  // the field evaluates the continuous P-NDF; a footprint's Bsdf reads its table
     return entry;
 }
 
