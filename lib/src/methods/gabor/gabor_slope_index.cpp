@@ -72,9 +72,11 @@ SlopeIndex::SlopeIndex(const KernelArrays& kernels, const KernelGrid& grid,
         }
     if (grid_.order != 2) return;
     for (const double xi3_over_lambda : prepared_xi3_over_lambda) {
-        prepared_.push_back(chirp_factors(kernels_, grid_, xi3_over_lambda));
-        std::vector<double>& reaches = prepared_cell_reach_.emplace_back(cell_count);
-        for (std::size_t c = 0; c < cell_count; ++c) reaches[c] = cell_reach(bounds_[c].radius, xi3_over_lambda);
+        Prepared& prepared = prepared_.emplace_back();
+        prepared.factors = chirp_factors(kernels_, grid_, xi3_over_lambda);
+        prepared.cell_reach.resize(cell_count);
+        for (std::size_t c = 0; c < cell_count; ++c)
+            prepared.cell_reach[c] = cell_reach(bounds_[c].radius, xi3_over_lambda);
     }
 }
 
@@ -104,10 +106,10 @@ std::complex<double> SlopeIndex::sum(const TransformPoint& point) const {
     const int j1 = cell_of((widest - point.vy) / t, origin_y_, inverse_width_y_, cells_y_);
     const ChirpFactors* factors = nullptr;
     const double* prepared_reach = nullptr;  // each cell's reach when the factors are prepared
-    for (std::size_t p = 0; p < prepared_.size(); ++p)
-        if (prepared_[p].xi3_over_lambda == t) {
-            factors = &prepared_[p];
-            prepared_reach = prepared_cell_reach_[p].data();
+    for (const Prepared& prepared : prepared_)
+        if (prepared.factors.xi3_over_lambda == t) {
+            factors = &prepared.factors;
+            prepared_reach = prepared.cell_reach.data();
         }
     const bool chirped = grid_.order == 2;
     std::complex<double> total = 0.0;

@@ -56,8 +56,13 @@ private:
         double x_min, x_max, y_min, y_max, radius;
     };
     std::vector<CellBounds> bounds_;
-    std::vector<ChirpFactors> prepared_;  // second order, in the kernels' order
-    std::vector<std::vector<double>> prepared_cell_reach_;  // per prepared ξ3/λ, each cell's widened reach
+    // Second order, per prepared ξ3/λ: the kernels' chirp factors (in the kernels' order) and each
+    // cell's widened reach.
+    struct Prepared {
+        ChirpFactors factors;
+        std::vector<double> cell_reach;
+    };
+    std::vector<Prepared> prepared_;
     double largest_radius_ = 0.0;
 };
 
