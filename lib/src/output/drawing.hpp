@@ -22,7 +22,8 @@ const std::string& font();
 int text_width(const std::string& text, int size = kFont);
 // A white picture.
 OIIO::ImageBuf blank(int width, int height);
-// One line of text with its top-left (or top-centre, top-right) corner at (x, y).
+// One line of text whose line box starts at y (left, centred or right at x): the tallest glyphs'
+// top at y, so that lines of one size drawn at one y share a baseline whatever their letters.
 void text(OIIO::ImageBuf& picture, int x, int y, const std::string& line, const Colour& colour = kBlack,
           OIIO::ImageBufAlgo::TextAlignX align = OIIO::ImageBufAlgo::TextAlignX::Left, int size = kFont);
 // %g with `digits` significant digits.
