@@ -2,15 +2,20 @@
 
 #include <utility>
 
+#include "core/lazy.hpp"
 #include "numerics/disk_distribution.hpp"
 
 namespace glintscope {
 namespace {
 
 struct Microfacet {
+    explicit Microfacet(MicrofacetTable made, std::size_t layers)
+        : table(std::move(made)), wavelengths(layers),
+          normals([this] { return make_disk_distribution(table.density.resolution, 1, table.density.values); }) {}
+
     MicrofacetTable table;
-    DiskDistribution normals;  // h ∝ D(h) dA_h, piecewise constant over the table's pixels
     std::size_t wavelengths = 1;
+    Lazy<DiskDistribution> normals;  // h ∝ D(h) dA_h, piecewise constant over the table's pixels
 
     std::vector<double> eval(Vec3 omega_i, Vec3 omega_o) const {
         const Vec3 h = normalize(omega_i + omega_o);
@@ -19,14 +24,14 @@ struct Microfacet {
     }
 
     DirectionSample sample(Vec3 omega_i, double u1, double u2) const {
-        const auto point = sample_disk(normals, u1, u2);
+        const auto point = sample_disk(normals.get(), u1, u2);
         if (!point) return {};
-        return reflected_sample(omega_i, *point, disk_density(normals, point->x, point->y));
+        return reflected_sample(omega_i, *point, disk_density(normals.get(), point->x, point->y));
     }
 
     double pdf(Vec3 omega_i, Vec3 omega_o) const {
         const Vec3 h = normalize(omega_i + omega_o);
-        return reflection_pdf(disk_density(normals, h.x, h.y), h, omega_o);
+        return reflection_pdf(disk_density(normals.get(), h.x, h.y), h, omega_o);
     }
 };
 
@@ -62,11 +67,8 @@ std::vector<ComplexIndex> refractive_indices(const LobeQuery& query) {
 }
 
 PointAnswers microfacet_answers(MicrofacetTable table, std::size_t wavelengths) {
-    auto model = std::make_shared<Microfacet>();
-    model->normals = make_disk_distribution(table.density.resolution, 1, table.density.values);
-    model->table = std::move(table);
-    model->wavelengths = wavelengths;
-    std::shared_ptr<const Microfacet> shared = model;
+    // The sampling table is made on the first sample or pdf: eval alone never pays for it.
+    std::shared_ptr<const Microfacet> shared = std::make_shared<const Microfacet>(std::move(table), wavelengths);
     return {[shared](Vec3 i, Vec3 o) { return shared->eval(i, o); },
             [shared](Vec3 i, double u1, double u2) { return shared->sample(i, u1, u2); },
             [shared](Vec3 i, Vec3 o) { return shared->pdf(i, o); }};
