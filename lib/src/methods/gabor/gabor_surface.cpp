@@ -861,6 +861,7 @@ double brdf_of_kernels(const GaborPointQuery& query, const gabor::KernelArrays& 
 // ascending[a] are ordered[0, prefix[a + 1]). Compares squares and scatters the arrays one by one
 // through plain pointers, so that the loops vectorise: kernel by kernel, with a square root, a
 // division and nine copies each, this took a third of a spectral render.
+GLINTSCOPE_OUT_OF_LINE_CLONES
 std::vector<std::size_t> order_by_first_wavelength(const GaborPointQuery& query, const gabor::KernelGrid& grid,
                                                    const std::vector<double>& ascending,
                                                    const gabor::KernelArrays& collected,
