@@ -70,4 +70,17 @@ void BM_ArealParameters8192(benchmark::State& state) {
 }
 BENCHMARK(BM_ArealParameters8192)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
 
+// What `info` computes on the 8192² EXR (a measured scan: non-periodic): the load, the statistics
+// and every ISO 25178-2 parameter from one autocorrelation (target for the whole `info` ≤ 3 s).
+void BM_LoadAndSurfaceReport8192(benchmark::State& state) {
+    const std::string path = (std::filesystem::temp_directory_path() / "glintscope-bench-report-8192.exr").string();
+    glintscope::save_heightfield(path, glintscope::generate(isotropic_8192()));
+    for (auto _ : state) {
+        const Heightfield field = glintscope::load_heightfield(path);
+        benchmark::DoNotOptimize(glintscope::compute_surface_report(field));
+    }
+    std::filesystem::remove(path);
+}
+BENCHMARK(BM_LoadAndSurfaceReport8192)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
+
 }  // namespace
