@@ -35,8 +35,38 @@ struct PowerSums {
     std::vector<double> mask;
 };
 
+// One row's terms, NaN where undefined: the squared and absolute deviations from the mean and the
+// squared central-difference slopes along x (wrapping at the row's ends) and y (from the rows
+// above and below). Branch-free over the interior columns, so the compiler vectorises it.
+struct RowTerms {
+    double* squares;
+    double* absolutes;
+    double* slope_x_squares;
+    double* slope_y_squares;
+};
+
+void row_terms(const float* row, const float* above, const float* below, int cols, double mean,
+               double inverse_span_x, double inverse_span_y, const RowTerms& out) {
+    for (int c = 0; c < cols; ++c) {
+        const double deviation = double(row[c]) - mean;
+        out.squares[c] = deviation * deviation;
+        out.absolutes[c] = std::fabs(deviation);
+        // Row r − 1 lies at larger y; the sign does not matter for the rms.
+        const double slope_y = (double(above[c]) - double(below[c])) * inverse_span_y;
+        out.slope_y_squares[c] = slope_y * slope_y;
+    }
+    for (int c = 1; c + 1 < cols; ++c) {
+        const double slope_x = (double(row[c + 1]) - double(row[c - 1])) * inverse_span_x;
+        out.slope_x_squares[c] = slope_x * slope_x;
+    }
+    for (const int c : {0, cols - 1}) {
+        const double slope_x = (double(row[c + 1 < cols ? c + 1 : 0]) - double(row[c > 0 ? c - 1 : cols - 1])) * inverse_span_x;
+        out.slope_x_squares[c] = slope_x * slope_x;
+    }
+}
+
 // Height deviations and central-difference slopes (periodic; a slope counts only where both
-// neighbours are valid).
+// neighbours are valid). Each row's terms are summed in column order, after row_terms.
 DeviationSums deviations(const Heightfield& field, double mean) {
     const int rows = field.rows;
     const int cols = field.cols;
@@ -44,30 +74,25 @@ DeviationSums deviations(const Heightfield& field, double mean) {
     const double inverse_span_y = 1.0 / (2.0 * field.dy_um());
     const std::size_t chunks = (rows + kRowsPerChunk - 1) / kRowsPerChunk;
     std::vector<DeviationSums> partial(chunks);
+    const auto row_at = [&](int r) { return field.heights_um.data() + static_cast<std::size_t>(r) * cols; };
     parallel_for(rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
         DeviationSums sums;  // a local, so the loop keeps it in registers
+        const RowTerms terms{thread_scratch<double>(0, cols), thread_scratch<double>(1, cols),
+                             thread_scratch<double>(2, cols), thread_scratch<double>(3, cols)};
         for (int r = static_cast<int>(begin); r < static_cast<int>(end); ++r) {
-            const int up = (r + rows - 1) % rows;
-            const int down = (r + 1) % rows;
+            row_terms(row_at(r), row_at((r + rows - 1) % rows), row_at((r + 1) % rows), cols, mean, inverse_span_x,
+                      inverse_span_y, terms);
             for (int c = 0; c < cols; ++c) {
-                const double h = field.at(r, c);
-                if (!std::isnan(h)) {
-                    sums.squares += (h - mean) * (h - mean);
-                    sums.absolutes += std::fabs(h - mean);
+                if (!std::isnan(terms.squares[c])) {
+                    sums.squares += terms.squares[c];
+                    sums.absolutes += terms.absolutes[c];
                 }
-                const double left = field.at(r, c > 0 ? c - 1 : cols - 1);
-                const double right = field.at(r, c + 1 < cols ? c + 1 : 0);
-                if (!std::isnan(left) && !std::isnan(right)) {
-                    const double slope = (right - left) * inverse_span_x;
-                    sums.slope_x_squares += slope * slope;
+                if (!std::isnan(terms.slope_x_squares[c])) {
+                    sums.slope_x_squares += terms.slope_x_squares[c];
                     ++sums.slope_x_count;
                 }
-                // Row r − 1 lies at larger y; the sign does not matter for the rms.
-                const double above = field.at(up, c);
-                const double below = field.at(down, c);
-                if (!std::isnan(above) && !std::isnan(below)) {
-                    const double slope = (above - below) * inverse_span_y;
-                    sums.slope_y_squares += slope * slope;
+                if (!std::isnan(terms.slope_y_squares[c])) {
+                    sums.slope_y_squares += terms.slope_y_squares[c];
                     ++sums.slope_y_count;
                 }
             }
