@@ -60,7 +60,8 @@ void row_terms(const float* row, const float* above, const float* below, int col
         out.slope_x_squares[c] = slope_x * slope_x;
     }
     for (const int c : {0, cols - 1}) {
-        const double slope_x = (double(row[c + 1 < cols ? c + 1 : 0]) - double(row[c > 0 ? c - 1 : cols - 1])) * inverse_span_x;
+        const int left = c > 0 ? c - 1 : cols - 1, right = c + 1 < cols ? c + 1 : 0;
+        const double slope_x = (double(row[right]) - double(row[left])) * inverse_span_x;
         out.slope_x_squares[c] = slope_x * slope_x;
     }
 }
