@@ -234,14 +234,10 @@ void run_info(const InfoSettings& settings) {
     }
     Report report;
     report.surface = steps.empty() ? "as read (not levelled, no S- or L-filter)" : join(steps, ", then ");
-    report.statistics = compute_statistics(field);
-    // compute_areal_parameters' preconditions, so that such fields still get the rest of info.
-    if (!(report.statistics.sq_um > 0.0))
-        report.iso_undefined = "not defined: the heights do not vary";
-    else if (!field.periodic && (field.rows < 3 || field.cols < 3))
-        report.iso_undefined = "not defined: fewer than 3 x 3 samples";
-    else
-        report.iso = compute_areal_parameters(field, settings.threshold);
+    const SurfaceReport numbers = compute_surface_report(field, settings.threshold);
+    report.statistics = numbers.statistics;
+    report.iso = numbers.iso;
+    if (!numbers.iso) report.iso_undefined = "not defined: " + numbers.iso_undefined;
     if (settings.json)
         print_json(settings.input, field, report, settings.load.texel_um.has_value());
     else

@@ -107,7 +107,15 @@ Heightfield load(const std::string& path, const py::object& channel, const py::o
     LoadOptions options;
     if (!channel.is_none()) options.channel = value_text(channel);
     if (!height_unit.is_none()) options.height_unit = parse_length_unit(value_text(height_unit));
-    if (!texel.is_none()) options.texel_um = length_um(texel, "texel");
+    if (py::isinstance<py::tuple>(texel) || py::isinstance<py::list>(texel)) {
+        const py::sequence spacing = texel.cast<py::sequence>();
+        if (spacing.size() != 2)
+            throw Error("texel: one length or a pair (dx, dy), got " + std::to_string(spacing.size()) + " values");
+        options.texel_um = length_um(spacing[0], "texel dx");
+        options.texel_y_um = length_um(spacing[1], "texel dy");
+    } else if (!texel.is_none()) {
+        options.texel_um = length_um(texel, "texel");
+    }
     options.height_scale = height_scale;
     options.periodic = periodic;
     py::gil_scoped_release release;
@@ -223,7 +231,9 @@ void bind_heightfield(py::module_& module) {
     module.def("load", &load, py::arg("path"), py::kw_only(), py::arg("channel") = py::none(),
                py::arg("height_unit") = py::none(), py::arg("texel") = py::none(), py::arg("height_scale") = 1.0,
                py::arg("periodic") = false,
-               "Reads a heightfield (.exr .tif .png .npy .x3p, ...) as the CLI does, with the same load options.");
+               "Reads a heightfield (.exr .tif .png .npy .x3p, ...) as the CLI does, with the same load options; "
+               "texel: one length for square texels or a pair (dx, dy) for rectangular ones (each \"0.5um\" or a "
+               "number in um), declared over what the file states.");
     static const std::string generate_doc = "A procedural heightfield: a kind (" + join(generator_kinds()) +
                                             "; default gaussian) or a recipe file, with recipe keys as keyword "
                                             "arguments.\n" + recipe_keys_doc();

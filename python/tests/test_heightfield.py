@@ -150,3 +150,28 @@ print(raised, len(cases))
     assert result.returncode == 0, result.stderr
     raised, total = map(int, result.stdout.split())
     assert raised == total, result.stdout
+
+
+def test_load_takes_a_rectangular_texel_pair(tmp_path, surface):
+    path = str(tmp_path / "field.npy")  # NPY states no spacing: the declared one is used as is
+    surface.save(path)
+    square = glintscope.load(path, texel=1)
+    rectangular = glintscope.load(path, texel=(1, "2um"))
+    assert (rectangular.texel_um, rectangular.texel_y_um) == (1.0, 2.0)
+    assert np.array_equal(rectangular.heights, surface.heights)
+    # Stretching y by 2 halves the slopes along y and doubles the correlation length along y; x keeps its own.
+    one, two = square.statistics(), rectangular.statistics()
+    assert two["rms_slope_x"] == one["rms_slope_x"]
+    assert two["rms_slope_y"] == pytest.approx(one["rms_slope_y"] / 2, rel=1e-12)
+    assert two["correlation_length_x_um"] == one["correlation_length_x_um"]
+    assert two["correlation_length_y_um"] == pytest.approx(2 * one["correlation_length_y_um"], rel=1e-12)
+    # The same field written at 1 x 2 um (the EXR states both spacings) reads back with the same numbers.
+    written = str(tmp_path / "field.exr")
+    rectangular.save(written)
+    from_file = glintscope.load(written)
+    assert (from_file.texel_um, from_file.texel_y_um) == (1.0, 2.0)
+    exactly = dict(rel=0, abs=0, nan_ok=True)  # NaN: the autocorrelation at half the field, not reported once it decayed
+    assert from_file.statistics() == pytest.approx(two, **exactly)
+    assert from_file.iso_parameters() == pytest.approx(rectangular.iso_parameters(), **exactly)
+    with pytest.raises(glintscope.Error, match="pair"):
+        glintscope.load(path, texel=(1, 2, 3))

@@ -11,6 +11,7 @@
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "surface/field_transforms.hpp"
+#include "surface/statistics_parts.hpp"
 
 namespace glintscope {
 namespace {
@@ -62,6 +63,21 @@ void add_gradient(const float* row, const float* above, const float* below, int 
     sums.area_excess += slope_squared / (std::sqrt(1.0 + slope_squared) + 1.0);
 }
 
+// The gradient terms of columns 1..cols−2 of a row: g² = |∇z|² and the area excess
+// g² / (√(1+g²) + 1), NaN where a neighbour is missing. A loop without branches, which the
+// compiler vectorises (this file is compiled without errno, so the square root can be); square
+// roots and divisions are correctly rounded, so the values are the scalar loop's bit for bit.
+void interior_gradient_terms(const float* row, const float* above, const float* below, int cols,
+                             double inverse_2dx, double inverse_2dy, double* squares, double* excess) {
+    for (int c = 1; c + 1 < cols; ++c) {
+        const double zx = (double(row[c + 1]) - row[c - 1]) * inverse_2dx;
+        const double zy = (double(above[c]) - below[c]) * inverse_2dy;
+        const double slope_squared = zx * zx + zy * zy;
+        squares[c] = slope_squared;
+        excess[c] = slope_squared / (std::sqrt(1.0 + slope_squared) + 1.0);
+    }
+}
+
 Deviations deviations(const Heightfield& field, double mean, double dx, double dy) {
     const int rows = field.rows;
     const int cols = field.cols;
@@ -82,8 +98,16 @@ Deviations deviations(const Heightfield& field, double mean, double dx, double d
             // The border columns have a neighbour only on a periodic field.
             if (field.periodic)
                 add_gradient(row, above, below, 0, cols - 1, 1 % cols, inverse_2dx, inverse_2dy, sums);
-            for (int c = 1; c + 1 < cols; ++c)
-                add_gradient(row, above, below, c, c - 1, c + 1, inverse_2dx, inverse_2dy, sums);
+            // Summed in column order after the vectorised terms: the same sums as add_gradient's.
+            double* squares = thread_scratch<double>(0, cols);
+            double* excess = thread_scratch<double>(1, cols);
+            interior_gradient_terms(row, above, below, cols, inverse_2dx, inverse_2dy, squares, excess);
+            for (int c = 1; c + 1 < cols; ++c) {
+                if (std::isnan(squares[c]) || std::isnan(row[c])) continue;
+                ++sums.gradients;
+                sums.gradient_squares += squares[c];
+                sums.area_excess += excess[c];
+            }
             if (field.periodic && cols > 1)
                 add_gradient(row, above, below, cols - 1, cols - 2, 0, inverse_2dx, inverse_2dy, sums);
         }
@@ -265,17 +289,10 @@ double texture_direction_deg(const Heightfield& field, double mean, double dx, d
     return lay;
 }
 
-}  // namespace
-
-ArealParameters compute_areal_parameters(const Heightfield& field, double threshold) {
-    const ValidHeights valid = valid_heights(field, "areal parameters");
-    check_threshold(threshold);
-    const bool periodic = field.periodic;
-    if (!periodic && (field.rows < 3 || field.cols < 3))
-        throw Error("areal parameters need at least 3 x 3 samples (slopes need both neighbours)");
+// The height and hybrid parameters, with the threshold set (the spatial ones follow).
+ArealParameters height_and_hybrid_parameters(const Heightfield& field, const ValidHeights& valid, double threshold) {
     const double dx = field.dx_um(), dy = field.dy_um();
-    const double mean = valid.mean;
-    const Deviations d = deviations(field, mean, dx, dy);
+    const Deviations d = deviations(field, valid.mean, dx, dy);
     const double n = static_cast<double>(valid.count);
     ArealParameters p;
     p.threshold = threshold;
@@ -290,9 +307,51 @@ ArealParameters compute_areal_parameters(const Heightfield& field, double thresh
     if (d.gradients == 0) throw Error("areal parameters need valid slopes (no valid point has valid neighbours)");
     p.sdq = std::sqrt(d.gradient_squares / static_cast<double>(d.gradients));  // ISO 25178-2 §4.3.1
     p.sdr = d.area_excess / static_cast<double>(d.gradients);                     // ISO 25178-2 §4.3.2
-    decay_parameters(Autocorrelation(field, valid), dx, dy, p);
-    p.std_deg = texture_direction_deg(field, mean, dx, dy);
     return p;
+}
+
+// Sal, Str (from the autocorrelation) and Std.
+void add_spatial_parameters(const Heightfield& field, const ValidHeights& valid, const Autocorrelation& acf,
+                            ArealParameters& p) {
+    decay_parameters(acf, field.dx_um(), field.dy_um(), p);
+    p.std_deg = texture_direction_deg(field, valid.mean, field.dx_um(), field.dy_um());
+}
+
+void check_field_size(const Heightfield& field) {
+    if (!field.periodic && (field.rows < 3 || field.cols < 3))
+        throw Error("areal parameters need at least 3 x 3 samples (slopes need both neighbours)");
+}
+
+}  // namespace
+
+ArealParameters compute_areal_parameters(const Heightfield& field, double threshold) {
+    const ValidHeights valid = valid_heights(field, "areal parameters");
+    check_threshold(threshold);
+    check_field_size(field);
+    ArealParameters p = height_and_hybrid_parameters(field, valid, threshold);
+    add_spatial_parameters(field, valid, Autocorrelation(field, valid), p);
+    return p;
+}
+
+SurfaceReport compute_surface_report(const Heightfield& field, double threshold) {
+    check_threshold(threshold);
+    const ValidHeights valid = validated_heights(field, "statistics", /*allow_missing=*/true);
+    SurfaceReport report;
+    report.statistics = statistics_without_correlation(field, valid);
+    if (!(report.statistics.sq_um > 0.0))
+        report.iso_undefined = "the heights do not vary";
+    else if (!field.periodic && (field.rows < 3 || field.cols < 3))
+        report.iso_undefined = "fewer than 3 x 3 samples";
+    if (!report.iso_undefined.empty()) {
+        line_correlation_lengths(field, report.statistics);
+        return report;
+    }
+    ArealParameters p = height_and_hybrid_parameters(field, valid, threshold);
+    const Autocorrelation acf(field, valid);
+    read_correlation_lengths(acf, field.dx_um(), field.dy_um(), report.statistics);
+    add_spatial_parameters(field, valid, acf, p);
+    report.iso = p;
+    return report;
 }
 
 }  // namespace glintscope

@@ -17,10 +17,11 @@ Autocorrelation::Autocorrelation(const Heightfield& field, const ValidHeights& v
     cols_ = field.cols;
     max_row_lag_ = rows_ / 2;
     max_col_lag_ = cols_ / 2;
-    // Zero padding by half the field makes the circular sums the sums over pairs inside
-    // the field for every evaluated lag; a periodic field is its own continuation.
-    padded_rows_ = field.periodic ? rows_ : smooth_fft_size(rows_ + max_row_lag_ + 1);
-    padded_cols_ = field.periodic ? cols_ : smooth_fft_size(cols_ + max_col_lag_ + 1);
+    // Zero padding by half the field makes the circular sums the sums over pairs inside the field
+    // for every evaluated lag (a lag t also collects the pairs at t − padded, none once padded ≥
+    // n + t); a periodic field is its own continuation. 8192 pads to 12288 = 3·2¹², not 12348.
+    padded_rows_ = field.periodic ? rows_ : smooth_fft_size(rows_ + max_row_lag_);
+    padded_cols_ = field.periodic ? cols_ : smooth_fft_size(cols_ + max_col_lag_);
     const double mean = valid.mean;
     heights_ = autocorrelation_2d(padded_rows_, padded_cols_, rows_, max_row_lag_, [&](int r, float* out) {
         for (int c = 0; c < cols_; ++c) {
@@ -48,6 +49,10 @@ double Autocorrelation::interpolate(double row_lag, double col_lag) const {
 double Autocorrelation::covariance(int row_lag, int col_lag) const {
     row_lag = std::clamp(row_lag, -max_row_lag_, max_row_lag_);
     col_lag = std::clamp(col_lag, -max_col_lag_, max_col_lag_);
+    if (row_lag < 0) {  // only the rows of lags ≥ 0 are held: f(−t) = f(t)
+        row_lag = -row_lag;
+        col_lag = -col_lag;
+    }
     const int r = (row_lag + padded_rows_) % padded_rows_;
     const int c = (col_lag + padded_cols_) % padded_cols_;
     const double sum = heights_.real_row(r)[c];

@@ -106,8 +106,10 @@ HalfSpectrum forward_2d(int padded_rows, int padded_cols, int filled_rows, const
     return spectrum;
 }
 
-// The circular autocorrelation (unnormalised) of the array fill_row describes, for the lags
-// |t_row| ≤ max_row_lag: |FFT|² transformed back, rows read through real_row(lag mod rows).
+// The circular autocorrelation (unnormalised) of the array fill_row describes, for the row lags
+// 0..max_row_lag: |FFT|² transformed back, row lag r read through real_row(r). The negative row
+// lags follow from f(−t) = f(t) (a real array's autocorrelation is even), so only these rows are
+// stored and transformed back.
 template <typename FillRow>
 HalfSpectrum autocorrelation_2d(int padded_rows, int padded_cols, int filled_rows, int max_row_lag,
                                 const FillRow& fill_row) {
@@ -115,11 +117,8 @@ HalfSpectrum autocorrelation_2d(int padded_rows, int padded_cols, int filled_row
     const FftwfPlan inverse_column_plan([&] {
         return fftwf_plan_dft_1d(padded_rows, plan_column.get(), plan_column.get(), FFTW_BACKWARD, FFTW_ESTIMATE);
     });
-    // Only the rows of lags −max_row_lag..max_row_lag are stored and transformed back.
-    std::vector<int> needed;
-    for (int lag = -max_row_lag; lag <= max_row_lag; ++lag) needed.push_back((lag + padded_rows) % padded_rows);
-    std::sort(needed.begin(), needed.end());
-    needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+    std::vector<int> needed(static_cast<std::size_t>(std::min(max_row_lag, padded_rows - 1)) + 1);
+    for (std::size_t lag = 0; lag < needed.size(); ++lag) needed[lag] = static_cast<int>(lag);
     HalfSpectrum spectrum = forward_2d(
         padded_rows, padded_cols, filled_rows, fill_row,
         [&](std::size_t, fftwf_complex* column, int rows, std::size_t) {

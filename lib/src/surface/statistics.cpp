@@ -6,7 +6,9 @@
 #include <vector>
 
 #include "numerics/fftw_plans.hpp"
-#include "surface/valid_heights.hpp"
+#include "surface/field_transforms.hpp"
+#include "surface/statistics_parts.hpp"
+#include "numerics/chirp_z.hpp"
 #include "glintscope/core/parallel.hpp"
 
 namespace glintscope {
@@ -33,8 +35,39 @@ struct PowerSums {
     std::vector<double> mask;
 };
 
+// One row's terms, NaN where undefined: the squared and absolute deviations from the mean and the
+// squared central-difference slopes along x (wrapping at the row's ends) and y (from the rows
+// above and below). Branch-free over the interior columns, so the compiler vectorises it.
+struct RowTerms {
+    double* squares;
+    double* absolutes;
+    double* slope_x_squares;
+    double* slope_y_squares;
+};
+
+void row_terms(const float* row, const float* above, const float* below, int cols, double mean,
+               double inverse_span_x, double inverse_span_y, const RowTerms& out) {
+    for (int c = 0; c < cols; ++c) {
+        const double deviation = double(row[c]) - mean;
+        out.squares[c] = deviation * deviation;
+        out.absolutes[c] = std::fabs(deviation);
+        // Row r − 1 lies at larger y; the sign does not matter for the rms.
+        const double slope_y = (double(above[c]) - double(below[c])) * inverse_span_y;
+        out.slope_y_squares[c] = slope_y * slope_y;
+    }
+    for (int c = 1; c + 1 < cols; ++c) {
+        const double slope_x = (double(row[c + 1]) - double(row[c - 1])) * inverse_span_x;
+        out.slope_x_squares[c] = slope_x * slope_x;
+    }
+    for (const int c : {0, cols - 1}) {
+        const int left = c > 0 ? c - 1 : cols - 1, right = c + 1 < cols ? c + 1 : 0;
+        const double slope_x = (double(row[right]) - double(row[left])) * inverse_span_x;
+        out.slope_x_squares[c] = slope_x * slope_x;
+    }
+}
+
 // Height deviations and central-difference slopes (periodic; a slope counts only where both
-// neighbours are valid).
+// neighbours are valid). Each row's terms are summed in column order, after row_terms.
 DeviationSums deviations(const Heightfield& field, double mean) {
     const int rows = field.rows;
     const int cols = field.cols;
@@ -42,30 +75,25 @@ DeviationSums deviations(const Heightfield& field, double mean) {
     const double inverse_span_y = 1.0 / (2.0 * field.dy_um());
     const std::size_t chunks = (rows + kRowsPerChunk - 1) / kRowsPerChunk;
     std::vector<DeviationSums> partial(chunks);
+    const auto row_at = [&](int r) { return field.heights_um.data() + static_cast<std::size_t>(r) * cols; };
     parallel_for(rows, kRowsPerChunk, [&](std::size_t begin, std::size_t end) {
         DeviationSums sums;  // a local, so the loop keeps it in registers
+        const RowTerms terms{thread_scratch<double>(0, cols), thread_scratch<double>(1, cols),
+                             thread_scratch<double>(2, cols), thread_scratch<double>(3, cols)};
         for (int r = static_cast<int>(begin); r < static_cast<int>(end); ++r) {
-            const int up = (r + rows - 1) % rows;
-            const int down = (r + 1) % rows;
+            row_terms(row_at(r), row_at((r + rows - 1) % rows), row_at((r + 1) % rows), cols, mean, inverse_span_x,
+                      inverse_span_y, terms);
             for (int c = 0; c < cols; ++c) {
-                const double h = field.at(r, c);
-                if (!std::isnan(h)) {
-                    sums.squares += (h - mean) * (h - mean);
-                    sums.absolutes += std::fabs(h - mean);
+                if (!std::isnan(terms.squares[c])) {
+                    sums.squares += terms.squares[c];
+                    sums.absolutes += terms.absolutes[c];
                 }
-                const double left = field.at(r, c > 0 ? c - 1 : cols - 1);
-                const double right = field.at(r, c + 1 < cols ? c + 1 : 0);
-                if (!std::isnan(left) && !std::isnan(right)) {
-                    const double slope = (right - left) * inverse_span_x;
-                    sums.slope_x_squares += slope * slope;
+                if (!std::isnan(terms.slope_x_squares[c])) {
+                    sums.slope_x_squares += terms.slope_x_squares[c];
                     ++sums.slope_x_count;
                 }
-                // Row r − 1 lies at larger y; the sign does not matter for the rms.
-                const double above = field.at(up, c);
-                const double below = field.at(down, c);
-                if (!std::isnan(above) && !std::isnan(below)) {
-                    const double slope = (above - below) * inverse_span_y;
-                    sums.slope_y_squares += slope * slope;
+                if (!std::isnan(terms.slope_y_squares[c])) {
+                    sums.slope_y_squares += terms.slope_y_squares[c];
                     ++sums.slope_y_count;
                 }
             }
@@ -84,23 +112,23 @@ DeviationSums deviations(const Heightfield& field, double mean) {
     return total;
 }
 
-// Sums |FFT|² over `line_count` lines of length `length`, each line transformed in single
-// precision (its power carries ~7 digits, beyond what a 1/e length needs) and summed in double.
-// fill(begin, end, z, m, pitch) writes the
-// mean-removed, zero-filled heights and (when m is not null) the mask of lines begin..end−1 into z
-// and m, line i at offset (i − begin)·pitch. Lines are processed in fixed chunks with one shared plan; partial sums
-// are combined in chunk order, so the result does not depend on the thread count.
+// Sums |FFT|² over `line_count` lines of length `length`, zero-padded to `transform_length`, each
+// line transformed in single precision (its power carries ~7 digits, beyond what a 1/e length
+// needs) and summed in double. fill(begin, end, z, m, pitch) writes the mean-removed, zero-filled
+// heights and (when m is not null) the mask of lines begin..end−1 into z and m, line i at offset
+// (i − begin)·pitch. Lines are processed in fixed chunks with one shared plan; partial sums are
+// combined in chunk order, so the result does not depend on the thread count.
 template <typename Fill>
-PowerSums line_power_sums(std::size_t line_count, int length, std::size_t lines_per_chunk, bool with_mask,
-                          const Fill& fill) {
-    const std::size_t bins = static_cast<std::size_t>(length) / 2 + 1;
+PowerSums line_power_sums(std::size_t line_count, int length, int transform_length, std::size_t lines_per_chunk,
+                          bool with_mask, const Fill& fill) {
+    const std::size_t bins = static_cast<std::size_t>(transform_length) / 2 + 1;
     // Lines start at multiples of 32 bytes, the alignment of the planning arrays; the extra 64 bytes
     // keep lines of power-of-two length from mapping onto the same cache sets while gathering.
-    const std::size_t pitch = ((static_cast<std::size_t>(length) + 7) & ~std::size_t{7}) + 16;
+    const std::size_t pitch = ((static_cast<std::size_t>(transform_length) + 7) & ~std::size_t{7}) + 16;
     auto plan_input = make_fftw_buffer<float>(pitch);
     auto plan_output = make_fftw_buffer<fftwf_complex>(bins);
     const FftwfPlan plan([&] {
-        return fftwf_plan_dft_r2c_1d(length, plan_input.get(), plan_output.get(), FFTW_ESTIMATE);
+        return fftwf_plan_dft_r2c_1d(transform_length, plan_input.get(), plan_output.get(), FFTW_ESTIMATE);
     });
     const std::size_t chunks = (line_count + lines_per_chunk - 1) / lines_per_chunk;
     std::vector<PowerSums> partial(chunks);
@@ -112,6 +140,10 @@ PowerSums line_power_sums(std::size_t line_count, int length, std::size_t lines_
         float* m = with_mask ? thread_scratch<float>(1, (end - begin) * pitch) : nullptr;
         fftwf_complex* spectrum = thread_scratch<fftwf_complex>(2, bins);
         fill(begin, end, z, m, pitch);
+        for (std::size_t line = 0; line < end - begin; ++line) {
+            std::fill(z + line * pitch + length, z + line * pitch + transform_length, 0.0f);
+            if (with_mask) std::fill(m + line * pitch + length, m + line * pitch + transform_length, 0.0f);
+        }
         const auto accumulate = [&](float* line, std::vector<double>& into) {
             fftwf_execute_dft_r2c(plan.get(), line, spectrum);
             for (std::size_t k = 0; k < bins; ++k)
@@ -153,48 +185,64 @@ std::vector<double> autocorrelation(const std::vector<double>& power, int length
     return result;
 }
 
-// The lag (µm) at which the normalised autocorrelation first falls to `threshold`, linearly
-// interpolated between lags. With missing points the masked estimator divides the
-// autocorrelation of the zero-filled data by that of the mask (the number of valid pairs at each
-// lag), so drop-outs do not pull the estimate towards zero. NaN when the autocorrelation stays
-// above the threshold up to half the period, or the heights do not vary.
+// A correlation length, or NaN with the autocorrelation at the last lag evaluated.
 struct CorrelationLength {
     double length_um = kNotANumber;
     double autocorrelation_at_half = kNotANumber;  // the last lag evaluated
 };
 
-CorrelationLength correlation_length(const PowerSums& sums, int length, double pairs_per_lag, double texel_um,
-                                     double threshold) {
-    const std::vector<double> heights = autocorrelation(sums.heights, length);
-    const std::vector<double> pairs =
-        sums.mask.empty() ? std::vector<double>(length, pairs_per_lag) : autocorrelation(sums.mask, length);
-    const auto covariance = [&](int lag) {
-        return pairs[lag] > 0.5 ? heights[lag] / pairs[lag] : kNotANumber;
-    };
-    const double variance = covariance(0);
+// The lag (µm) at which the normalised autocorrelation rho(lag) (NaN where no pair of valid
+// points has the lag) first falls to `threshold` over lags 1..max_lag, linearly interpolated
+// between lags; NaN when it stays above the threshold up to max_lag (half the field).
+template <typename Rho>
+CorrelationLength first_decay(const Rho& rho, int max_lag, double texel_um, double threshold) {
     CorrelationLength result;
-    if (!(variance > 0.0)) return result;
     double previous = 1.0;
     int previous_lag = 0;
-    for (int lag = 1; lag <= length / 2; ++lag) {
-        const double rho = covariance(lag) / variance;
-        if (std::isnan(rho)) continue;
-        if (rho <= threshold) {
-            const double fraction = (previous - threshold) / (previous - rho);
+    for (int lag = 1; lag <= max_lag; ++lag) {
+        const double value = rho(lag);
+        if (std::isnan(value)) continue;
+        if (value <= threshold) {
+            const double fraction = (previous - threshold) / (previous - value);
             result.length_um = (previous_lag + fraction * (lag - previous_lag)) * texel_um;
             return result;
         }
-        previous = rho;
+        previous = value;
         previous_lag = lag;
     }
     result.autocorrelation_at_half = previous;
     return result;
 }
 
+// From the lines' summed spectra (line_power_sums over `lines` lines of `length` samples,
+// transformed at `transform_length`). With missing points the masked estimator divides the
+// autocorrelation of the zero-filled data by that of the mask (the number of valid pairs at each
+// lag), so drop-outs do not pull the estimate towards zero; without, the pairs at lag t number
+// lines·length on a periodic field (circular) and lines·(length − t) on a non-periodic one.
+CorrelationLength correlation_length(const PowerSums& sums, std::size_t lines, int length, int transform_length,
+                                     bool periodic, double texel_um) {
+    const std::vector<double> heights = autocorrelation(sums.heights, transform_length);
+    const std::vector<double> mask_pairs = sums.mask.empty() ? std::vector<double>{} : autocorrelation(sums.mask, transform_length);
+    const auto covariance = [&](int lag) {
+        const double pairs = !mask_pairs.empty() ? mask_pairs[lag]
+                             : periodic          ? double(lines) * length
+                                                 : double(lines) * (length - lag);
+        return pairs > 0.5 ? heights[lag] / pairs : kNotANumber;
+    };
+    const double variance = covariance(0);
+    if (!(variance > 0.0)) return {};
+    return first_decay([&](int lag) { return covariance(lag) / variance; }, length / 2, texel_um,
+                       kCorrelationThreshold);
+}
+
+// The transform length for lines of n samples: n on a periodic field; otherwise padded with
+// zeros so that no lag up to n/2 wraps around (the autocorrelation then sums the pairs inside the
+// field, as the areal parameters' does: field_transforms.cpp).
+int line_transform_length(int n, bool periodic) { return periodic ? n : smooth_fft_size(n + n / 2); }
+
 }  // namespace
 
-SurfaceStatistics compute_statistics(const Heightfield& field) {
-    const ValidHeights heights = validated_heights(field, "statistics", /*allow_missing=*/true);
+SurfaceStatistics statistics_without_correlation(const Heightfield& field, const ValidHeights& heights) {
     const double valid = static_cast<double>(heights.count);
     SurfaceStatistics stats;
     stats.mean_um = heights.mean;
@@ -212,14 +260,20 @@ SurfaceStatistics compute_statistics(const Heightfield& field) {
     stats.rms_slope_y = deviation.slope_y_count > 0
                             ? std::sqrt(deviation.slope_y_squares / static_cast<double>(deviation.slope_y_count))
                             : kNotANumber;
+    stats.correlation_threshold = kCorrelationThreshold;
+    return stats;
+}
 
+void line_correlation_lengths(const Heightfield& field, SurfaceStatistics& stats) {
     // ACF along x only needs row-wise 1-D spectra (summed over rows), along y column-wise ones:
     // much cheaper than a 2-D transform, and exact for lags on the axes.
     const bool with_mask = stats.missing_count > 0;
     const int rows = field.rows;
     const int cols = field.cols;
+    const int row_transform = line_transform_length(cols, field.periodic);
+    const int column_transform = line_transform_length(rows, field.periodic);
     const PowerSums along_x = line_power_sums(
-        rows, cols, kRowsPerChunk, with_mask,
+        rows, cols, row_transform, kRowsPerChunk, with_mask,
         [&](std::size_t begin, std::size_t end, float* z, float* m, std::size_t pitch) {
             for (std::size_t r = begin; r < end; ++r)
                 for (int c = 0; c < cols; ++c) {
@@ -230,22 +284,39 @@ SurfaceStatistics compute_statistics(const Heightfield& field) {
     // Columns are gathered a block at a time, in tiles of kTileRows rows that stay in cache, so
     // each row segment is read once and each column buffer is written in runs.
     const PowerSums along_y = line_power_sums(
-        cols, rows, kColumnsPerChunk, with_mask,
+        cols, rows, column_transform, kColumnsPerChunk, with_mask,
         [&](std::size_t begin, std::size_t end, float* z, float* m, std::size_t pitch) {
             for (int r0 = 0; r0 < rows; r0 += kTileRows)
                 for (std::size_t c = begin; c < end; ++c)
                     for (int r = r0; r < std::min(rows, r0 + kTileRows); ++r)
                         store_deviation(field.at(r, static_cast<int>(c)), stats.mean_um, z, m, (c - begin) * pitch + r);
         });
-    stats.correlation_threshold = kCorrelationThreshold;
-    const CorrelationLength x = correlation_length(along_x, cols, static_cast<double>(rows) * cols, field.texel_um,
-                                                   kCorrelationThreshold);
-    const CorrelationLength y = correlation_length(along_y, rows, static_cast<double>(rows) * cols, field.dy_um(),
-                                                   kCorrelationThreshold);
+    const CorrelationLength x =
+        correlation_length(along_x, rows, cols, row_transform, field.periodic, field.dx_um());
+    const CorrelationLength y =
+        correlation_length(along_y, cols, rows, column_transform, field.periodic, field.dy_um());
     stats.correlation_length_x_um = x.length_um;
     stats.correlation_length_y_um = y.length_um;
     stats.autocorrelation_at_half_x = x.autocorrelation_at_half;
     stats.autocorrelation_at_half_y = y.autocorrelation_at_half;
+}
+
+void read_correlation_lengths(const field_transforms::Autocorrelation& acf, double dx, double dy,
+                              SurfaceStatistics& stats) {
+    const CorrelationLength x = first_decay([&](int lag) { return acf.at(0, lag); }, acf.max_col_lag(), dx,
+                                            kCorrelationThreshold);
+    const CorrelationLength y = first_decay([&](int lag) { return acf.at(lag, 0); }, acf.max_row_lag(), dy,
+                                            kCorrelationThreshold);
+    stats.correlation_length_x_um = x.length_um;
+    stats.correlation_length_y_um = y.length_um;
+    stats.autocorrelation_at_half_x = x.autocorrelation_at_half;
+    stats.autocorrelation_at_half_y = y.autocorrelation_at_half;
+}
+
+SurfaceStatistics compute_statistics(const Heightfield& field) {
+    SurfaceStatistics stats =
+        statistics_without_correlation(field, validated_heights(field, "statistics", /*allow_missing=*/true));
+    line_correlation_lengths(field, stats);
     return stats;
 }
 

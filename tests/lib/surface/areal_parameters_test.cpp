@@ -17,6 +17,7 @@
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
 #include "glintscope/surface/areal_parameters.hpp"
+#include "glintscope/surface/statistics.hpp"
 
 namespace glintscope {
 namespace {
@@ -180,6 +181,46 @@ TEST(ArealParameters, SameForAnyThreadCount) {
     EXPECT_EQ(one.sal_um, four.sal_um);
     EXPECT_EQ(one.str, four.str);
     EXPECT_EQ(one.std_deg, four.std_deg);
+}
+
+TEST(ArealParameters, SurfaceReportAgreesWithTheSeparateCalls) {
+    // info's report reads the statistics' 1/e lengths off the areal autocorrelation; the
+    // statistics' own line spectra use the same estimator, so the two agree to float rounding, on
+    // a tile, on a scan (pairs inside the field) and with missing points.
+    for (const bool periodic : {true, false})
+        for (const bool holes : {false, true}) {
+            Heightfield field = gaussian_field(128, 9.0, 4.0, 13);
+            field.periodic = periodic;
+            if (holes)
+                for (std::size_t i = 0; i < field.size(); i += 29) field.heights_um[i] = std::numeric_limits<float>::quiet_NaN();
+            const SurfaceReport report = compute_surface_report(field);
+            const SurfaceStatistics alone = compute_statistics(field);
+            const ArealParameters iso = compute_areal_parameters(field);
+            ASSERT_TRUE(report.iso.has_value());
+            const SurfaceStatistics& s = report.statistics;
+            EXPECT_NEAR(s.correlation_length_x_um, alone.correlation_length_x_um, 1e-5 * alone.correlation_length_x_um);
+            EXPECT_NEAR(s.correlation_length_y_um, alone.correlation_length_y_um, 1e-5 * alone.correlation_length_y_um);
+            EXPECT_NEAR(s.correlation_length_x_um, 9.0, 0.1 * 9.0);  // exp(−(t/T)²) = 1/e at t = T
+            EXPECT_NEAR(s.correlation_length_y_um, 4.0, 0.1 * 4.0);
+            EXPECT_EQ(s.sq_um, alone.sq_um);
+            EXPECT_EQ(s.rms_slope_x, alone.rms_slope_x);
+            EXPECT_EQ(s.rms_slope_y, alone.rms_slope_y);
+            EXPECT_EQ(s.missing_count, alone.missing_count);
+            EXPECT_EQ(report.iso->sq_um, iso.sq_um);
+            EXPECT_EQ(report.iso->sdr, iso.sdr);
+            EXPECT_EQ(report.iso->sal_um, iso.sal_um);
+            EXPECT_EQ(report.iso->str, iso.str);
+            EXPECT_EQ(report.iso->std_deg, iso.std_deg);
+        }
+    // Where the ISO parameters are not defined the statistics are still whole, with the reason.
+    const SurfaceReport flat = compute_surface_report(make_heightfield(8, 8, 1.0, 2.0f));
+    EXPECT_FALSE(flat.iso.has_value());
+    EXPECT_EQ(flat.iso_undefined, "the heights do not vary");
+    Heightfield strip = sinusoid(2, 64, 1.0, 1.0, 4, 0, false);
+    const SurfaceReport narrow = compute_surface_report(strip);
+    EXPECT_EQ(narrow.iso_undefined, "fewer than 3 x 3 samples");
+    EXPECT_EQ(narrow.statistics.correlation_length_x_um, compute_statistics(strip).correlation_length_x_um);
+    EXPECT_THROW(compute_surface_report(strip, 1.5), Error);
 }
 
 TEST(ArealParameters, FlatFieldsAndBadThresholdsAreRefused) {

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
@@ -146,6 +148,79 @@ TEST(Statistics, MaskedAutocorrelationIsUnbiasedByMissingPoints) {
     EXPECT_NEAR(masked.correlation_length_y_um / full.correlation_length_y_um, 1.0, 0.01);
     EXPECT_NEAR(masked.sq_um / full.sq_um, 1.0, 0.01);
     EXPECT_NEAR(masked.rms_slope_x / full.rms_slope_x, 1.0, 0.02);
+}
+
+// The normalised autocorrelation at `lag` along x (along_x) or y, summed directly over the pairs
+// of valid points `lag` apart: inside the field, or wrapping around on a periodic one.
+double direct_autocorrelation(const Heightfield& field, double mean, int lag, bool along_x, bool wrap) {
+    const auto product_sum = [&](int l, double& pairs) {
+        double sum = 0.0;
+        pairs = 0.0;
+        for (int r = 0; r < field.rows; ++r)
+            for (int c = 0; c < field.cols; ++c) {
+                int r2 = along_x ? r : r + l, c2 = along_x ? c + l : c;
+                if (wrap) {
+                    r2 %= field.rows;
+                    c2 %= field.cols;
+                }
+                if (r2 >= field.rows || c2 >= field.cols) continue;
+                const float a = field.at(r, c), b = field.at(r2, c2);
+                if (std::isnan(a) || std::isnan(b)) continue;
+                sum += (a - mean) * (b - mean);
+                pairs += 1.0;
+            }
+        return sum / pairs;
+    };
+    double pairs = 0.0;
+    return product_sum(lag, pairs) / product_sum(0, pairs);
+}
+
+// Its first fall to 1/e, interpolated between lags as the statistics do (µm).
+double direct_crossing(const Heightfield& field, double mean, bool along_x, bool wrap) {
+    const double texel = along_x ? field.dx_um() : field.dy_um();
+    double previous = 1.0;
+    for (int lag = 1;; ++lag) {
+        const double rho = direct_autocorrelation(field, mean, lag, along_x, wrap);
+        if (rho <= kCorrelationThreshold)
+            return (lag - 1 + (previous - kCorrelationThreshold) / (previous - rho)) * texel;
+        previous = rho;
+    }
+}
+
+TEST(Statistics, NonPeriodicAutocorrelationSumsThePairsInsideTheField) {
+    // A scan's borders are edges: each lag averages the products of the valid pairs inside the
+    // field (ISO 25178-2's integral over the definition area), as the areal parameters' Sal does;
+    // wrapping around would pair the opposite edges. Heights: noise averaged over 5 x 3 samples
+    // (a triangular autocorrelation crossing 1/e between lags) on a slope, with drop-outs.
+    Heightfield field = make_heightfield(40, 64, 0.5);
+    field.periodic = false;
+    set_spacing(field, 0.5, 0.8);
+    std::uint64_t state = 99;
+    std::vector<double> noise(field.size());
+    for (double& value : noise) {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        value = double(state >> 11) / double(1ULL << 53) - 0.5;
+    }
+    for (int r = 0; r < field.rows; ++r)
+        for (int c = 0; c < field.cols; ++c) {
+            double sum = 0.0;
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 5; ++j) sum += noise[((r + i) % field.rows) * field.cols + (c + j) % field.cols];
+            field.at(r, c) = static_cast<float>(sum + 0.01 * c);
+        }
+    for (std::size_t i = 0; i < field.size(); i += 23) field.heights_um[i] = kMissing;
+    const SurfaceStatistics stats = compute_statistics(field);
+    for (const bool along_x : {true, false}) {
+        const double inside = direct_crossing(field, stats.mean_um, along_x, /*wrap=*/false);
+        const double wrapped = direct_crossing(field, stats.mean_um, along_x, /*wrap=*/true);
+        const double measured = along_x ? stats.correlation_length_x_um : stats.correlation_length_y_um;
+        EXPECT_NEAR(measured, inside, 1e-5 * inside) << (along_x ? "x" : "y");
+        EXPECT_GT(std::fabs(wrapped - inside), 1e-3 * inside) << "the wrapped estimator differs";
+    }
+    field.periodic = true;  // the same heights as one tile: circular
+    const SurfaceStatistics tile = compute_statistics(field);
+    EXPECT_NEAR(tile.correlation_length_x_um, direct_crossing(field, tile.mean_um, true, true), 1e-5);
+    EXPECT_NEAR(tile.correlation_length_y_um, direct_crossing(field, tile.mean_um, false, true), 1e-5);
 }
 
 TEST(Statistics, SameBitsOnAnyThreadCount) {

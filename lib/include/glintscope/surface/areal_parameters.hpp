@@ -17,7 +17,11 @@
 //   the maximum of the angular power spectrum (the field's mean-removed heights under a Hann
 //   window, over the frequencies inside the Nyquist ellipse), in (−90°, 90°] counter-clockwise
 //   from +x, so a sinusoid in x, whose ridges run along y, has Std = 90°.
+#include <optional>
+#include <string>
+
 #include "glintscope/surface/heightfield.hpp"
+#include "glintscope/surface/statistics.hpp"
 
 namespace glintscope {
 
@@ -61,5 +65,19 @@ struct ArealParameters {
 // above needs Sq > 0); `threshold` must lie in (0, 1).
 ArealParameters compute_areal_parameters(const Heightfield& field,
                                          double threshold = kIsoAutocorrelationThreshold);
+
+// The statistics and, where they are defined, the ISO 25178-2 parameters (what `info` reports),
+// computed together: one validation and one autocorrelation, the statistics' 1/e correlation
+// lengths read along its axes (the estimator compute_statistics uses, so the same values to
+// float rounding) instead of from their own line spectra.
+struct SurfaceReport {
+    SurfaceStatistics statistics;
+    std::optional<ArealParameters> iso;
+    std::string iso_undefined;  // why iso is empty: "the heights do not vary", "fewer than 3 x 3 samples"
+};
+
+// Throws as compute_statistics does, and as compute_areal_parameters does for a threshold outside
+// (0, 1) or a field without valid slopes.
+SurfaceReport compute_surface_report(const Heightfield& field, double threshold = kIsoAutocorrelationThreshold);
 
 }  // namespace glintscope

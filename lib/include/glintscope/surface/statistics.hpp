@@ -15,9 +15,11 @@ struct SurfaceStatistics {
     double rms_slope_x = 0.0;    // rms of ∂H/∂x (central differences, periodic; NaN if no valid pair)
     double rms_slope_y = 0.0;
     // Distance along x (y) at which the normalised autocorrelation first falls to
-    // `correlation_threshold`; for Stam's C1, C2, C3 at 1/e this is T_x (T_y). Periodic, from
-    // row (column) spectra; with missing points the masked estimator keeps it unbiased. NaN when
-    // it stays above the threshold up to half the tile (or the field is flat).
+    // `correlation_threshold`; for Stam's C1, C2, C3 at 1/e this is T_x (T_y). From row (column)
+    // spectra, with the areal parameters' estimator: circular on a periodic field, over the pairs
+    // inside the field (zero-padded lines) on a non-periodic one, where wrapping would pair
+    // opposite edges of a scan; with missing points the masked estimator keeps it unbiased. NaN
+    // when it stays above the threshold up to half the field (or the field is flat).
     double correlation_length_x_um = 0.0;
     double correlation_length_y_um = 0.0;
     double correlation_threshold = 0.0;
