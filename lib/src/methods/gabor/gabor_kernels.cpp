@@ -131,8 +131,9 @@ template <typename T>
 // A second-order term from its prepared factors (ChirpFactors): u = v + a_k, q = uᵀAu,
 // w l² ξ2 det(M)^{−1/2} e^{−Re q} e^{−i2π(ξ3 H_k/λ + m_k·v + Im q/(2π))}, cut at its widened reach;
 // and norm e^{−Re q} where Re q < 25 added to `density` (the kernel's cut sampling Gaussian, whose
-// exponent is Re q: sum_transforms_and_density).
-template <typename T, bool WithDensity>
+// exponent is Re q: sum_transforms_and_density). `SlopeFactor`: ξ2 depends on H' (Kirchhoff),
+// else ξ2 = 1 and the term skips it.
+template <typename T, bool WithDensity, bool SlopeFactor>
 [[gnu::always_inline]] inline void add_prepared_chirped_term(const T& px, const T& py, const T& height,
                                                              const T& slope_x, const T& slope_y, const T& axx_re,
                                                              const T& axx_im, const T& axy_re, const T& axy_im,
@@ -142,7 +143,6 @@ template <typename T, bool WithDensity>
                                                              T& density) {
     const T ux = point.vx + point.xi3_over_lambda * slope_x;  // v + a_k (Yan 2018 eq. 15)
     const T uy = point.vy + point.xi3_over_lambda * slope_y;
-    const T xi2 = 1.0 - point.xi2_gx * slope_x - point.xi2_gy * slope_y;
     const T ux2 = ux * ux;
     const T uxy = 2.0 * ux * uy;
     const T uy2 = uy * uy;
@@ -150,7 +150,8 @@ template <typename T, bool WithDensity>
     const T q_im = axx_im * ux2 + axy_im * uxy + ayy_im * uy2;
     // As in add_chirped_term: e^{−25} stands for anything smaller inside the widened box.
     const T gaussian = gabor_math::exp_neg(min_of(q_re, T{} + 25.0));
-    const T amplitude = xi2 * gaussian;
+    T amplitude = gaussian;
+    if constexpr (SlopeFactor) amplitude *= 1.0 - point.xi2_gx * slope_x - point.xi2_gy * slope_y;
     if constexpr (WithDensity) density += (q_re < 25.0 ? norm : T{} * 0.0) * gaussian;
     T cos_phase;
     T sin_phase;
@@ -164,7 +165,7 @@ template <typename T, bool WithDensity>
 
 // The prepared terms of the runs' kernels into re, im and, with the norms (`WithDensity`), the
 // sampling density into `density`.
-template <bool WithDensity>
+template <bool WithDensity, bool SlopeFactor>
 [[gnu::always_inline]] inline void sum_prepared_terms(const KernelArrays& k, const ChirpFactors& c, const double* norm,
                                                       const KernelRun* runs, std::size_t run_count,
                                                       const TransformPoint& point, double& out_re, double& out_im,
@@ -172,7 +173,7 @@ template <bool WithDensity>
     const auto add = [&](std::size_t i, auto& re, auto& im, auto& d) __attribute__((always_inline)) {
         using T = std::decay_t<decltype(re)>;
         using gabor_math::lanes;
-        add_prepared_chirped_term<T, WithDensity>(
+        add_prepared_chirped_term<T, WithDensity, SlopeFactor>(
             lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]), lanes<T>(&k.slope_x[i]),
             lanes<T>(&k.slope_y[i]), lanes<T>(&c.a_xx_re[i]), lanes<T>(&c.a_xx_im[i]), lanes<T>(&c.a_xy_re[i]),
             lanes<T>(&c.a_xy_im[i]), lanes<T>(&c.a_yy_re[i]), lanes<T>(&c.a_yy_im[i]), lanes<T>(&c.f_re[i]),
@@ -192,7 +193,10 @@ __attribute__((target_clones("arch=x86-64-v3", "default")))
 void sum_prepared_chirped_terms(const KernelArrays& k, const ChirpFactors& c, const KernelRun* runs,
                                 std::size_t run_count, const TransformPoint& point, double& out_re, double& out_im) {
     double unused = 0.0;
-    sum_prepared_terms<false>(k, c, nullptr, runs, run_count, point, out_re, out_im, unused);
+    if (point.xi2_gx == 0.0 && point.xi2_gy == 0.0)
+        sum_prepared_terms<false, false>(k, c, nullptr, runs, run_count, point, out_re, out_im, unused);
+    else
+        sum_prepared_terms<false, true>(k, c, nullptr, runs, run_count, point, out_re, out_im, unused);
 }
 
 __attribute__((target_clones("arch=x86-64-v3", "default")))
@@ -200,7 +204,10 @@ void sum_prepared_chirped_terms_and_density(const KernelArrays& k, const ChirpFa
                                             const KernelRun* runs, std::size_t run_count,
                                             const TransformPoint& point, double& out_re, double& out_im,
                                             double& density) {
-    sum_prepared_terms<true>(k, c, norm, runs, run_count, point, out_re, out_im, density);
+    if (point.xi2_gx == 0.0 && point.xi2_gy == 0.0)
+        sum_prepared_terms<true, false>(k, c, norm, runs, run_count, point, out_re, out_im, density);
+    else
+        sum_prepared_terms<true, true>(k, c, norm, runs, run_count, point, out_re, out_im, density);
 }
 
 __attribute__((target_clones("arch=x86-64-v3", "default")))
