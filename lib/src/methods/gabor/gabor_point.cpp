@@ -2,7 +2,8 @@
 // (renderers' shading points): eval is GaborSurface's point query (Yan 2018 eq. 16–17 over the
 // pruning hierarchy of §5), built once per heightfield. At one footprint (make_bsdf, many
 // directions): eval sums the footprint's kernels through a SlopeIndex built once. Sample and pdf
-// are the footprint's kernel mixture (gabor_sampling.hpp) in both.
+// are the footprint's kernel mixture (gabor_sampling.hpp) over the footprint's slope index in
+// both; at one footprint a sample also brings f_r, computed in the same pass as its pdf.
 #include <cmath>
 #include <functional>
 #include <memory>
