@@ -169,11 +169,17 @@ BsdfSample Bsdf::sample(Vec3 omega_i, double u1, double u2) const {
     result.weight.assign(wavelengths_um().size(), 0.0);
     if (omega_i.z <= 0.0) return result;
     std::shared_ptr<const DiskDistribution> table;
+    std::vector<double> f;
     if (state_->point.sample) {
-        const DirectionSample s = state_->point.sample(omega_i, u1, u2);
-        if (!(s.pdf > 0.0)) return result;
-        result.omega_o = s.direction;
-        result.pdf = s.pdf;
+        EvaluatedSample s;
+        if (state_->point.sample_with_f_r)
+            s = state_->point.sample_with_f_r(omega_i, u1, u2);
+        else
+            s.sample = state_->point.sample(omega_i, u1, u2);
+        if (!(s.sample.pdf > 0.0)) return result;
+        result.omega_o = s.sample.direction;
+        result.pdf = s.sample.pdf;
+        f = std::move(s.f_r);
     } else {
         table = state_->table(omega_i);
         const auto point = sample_disk(*table, u1, u2);
@@ -181,7 +187,7 @@ BsdfSample Bsdf::sample(Vec3 omega_i, double u1, double u2) const {
         result.omega_o = direction_from_disk(point->x, point->y);
         result.pdf = disk_density(*table, point->x, point->y) * result.omega_o.z;  // dA = cosθ_o dω_o
     }
-    const std::vector<double> f = eval_above(*state_, table, omega_i, result.omega_o);
+    if (f.empty()) f = eval_above(*state_, table, omega_i, result.omega_o);
     for (std::size_t k = 0; k < f.size(); ++k) result.weight[k] = f[k] * result.omega_o.z / result.pdf;
     return result;
 }

@@ -16,6 +16,12 @@ struct DirectionSample {
     double pdf = 0.0;  // per unit solid angle of ω_o; 0: no direction (e.g. reflected below the horizon)
 };
 
+// A sample with eval(ω_i, ω_o) per wavelength at its direction (empty: not computed).
+struct EvaluatedSample {
+    DirectionSample sample;
+    std::vector<double> f_r;
+};
+
 struct PointAnswers {
     // f_r(ω_i, ω_o) per query wavelength for unit directions above the horizon: what the image
     // holds at a pixel centre at supersample 1. A method answering ndf: D(h) for eval(·, h).
@@ -23,6 +29,9 @@ struct PointAnswers {
     // A sampler and its exact pdf (both or neither).
     std::function<DirectionSample(Vec3 omega_i, double u1, double u2)> sample;
     std::function<double(Vec3 omega_i, Vec3 omega_o)> pdf;
+    // `sample` with f_r at the sampled direction, for a method that computes the two in one pass
+    // (sharing their sums); empty: the BSDF calls sample, then eval for the weight.
+    std::function<EvaluatedSample(Vec3 omega_i, double u1, double u2)> sample_with_f_r = nullptr;
     // ∫ f_r cosθ_o dω_o per wavelength by the BSDF's rule (the image's disk sum at supersample
     // kAlbedoSupersample over eval), where the method computes it faster than eval at every
     // sub-pixel; empty: the BSDF sums eval itself.

@@ -17,8 +17,7 @@
 namespace glintscope::gabor {
 namespace {
 
-
-using Double4 = double __attribute__((vector_size(32)));
+using gabor_math::Double4;
 
 
 // The kernel's amplitude where v lies in its box |v + a_k| ≤ reach, else 0 (per lane).
@@ -67,33 +66,17 @@ template <typename T>
     sum_im -= kept * sin_phase;
 }
 
-// Four kernels per step in SIMD lanes, the remainder one by one; each lane sums a fixed subset
-// of the kernels, so the result depends only on the kernel order. add(i, re, im) adds the terms
-// of kernels i… to re and im (double or Double4).
-template <typename Add>
-[[gnu::always_inline]] inline void sum_in_lanes(std::size_t begin, std::size_t end, const Add& add, double& out_re,
-                                                double& out_im) {
-    Double4 re4 = {0.0, 0.0, 0.0, 0.0};
-    Double4 im4 = {0.0, 0.0, 0.0, 0.0};
-    std::size_t i = begin;
-    for (; i + 4 <= end; i += 4) add(i, re4, im4);
-    double re = 0.0;
-    double im = 0.0;
-    for (; i < end; ++i) add(i, re, im);
-    out_re = ((re4[0] + re4[1]) + (re4[2] + re4[3])) + re;
-    out_im = ((im4[0] + im4[1]) + (im4[2] + im4[3])) + im;
-}
-
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 void sum_kernel_terms(const KernelArrays& k, std::size_t begin, std::size_t end, const TransformPoint& point,
                       double reach, double beta, double& out_re, double& out_im) {
     const double reach2 = reach * reach;
-    const auto add = [&](std::size_t i, auto& re, auto& im) __attribute__((always_inline)) {
+    const auto add = [&](std::size_t i, auto& re, auto& im, auto&) __attribute__((always_inline)) {
         using T = std::decay_t<decltype(re)>;
         add_term(gabor_math::lanes<T>(&k.px[i]), gabor_math::lanes<T>(&k.py[i]), gabor_math::lanes<T>(&k.height[i]), gabor_math::lanes<T>(&k.slope_x[i]),
                  gabor_math::lanes<T>(&k.slope_y[i]), gabor_math::lanes<T>(&k.weight[i]), point, reach2, beta, re, im);
     };
-    sum_in_lanes(begin, end, add, out_re, out_im);
+    double unused = 0.0;
+    gabor_math::sum_in_lanes(begin, end, add, out_re, out_im, unused);
 }
 
 // The second-order term: w_k l² ξ2 e^{−i2π(ξ3 H_k/λ + m_k·v)} det(M)^{−1/2} e^{−β uᵀM⁻¹u} with
@@ -146,24 +129,30 @@ template <typename T>
 }
 
 // A second-order term from its prepared factors (ChirpFactors): u = v + a_k, q = uᵀAu,
-// w l² ξ2 det(M)^{−1/2} e^{−Re q} e^{−i2π(ξ3 H_k/λ + m_k·v + Im q/(2π))}, cut at its widened reach.
-template <typename T>
+// w l² ξ2 det(M)^{−1/2} e^{−Re q} e^{−i2π(ξ3 H_k/λ + m_k·v + Im q/(2π))}, cut at its widened reach;
+// and norm e^{−Re q} where Re q < 25 added to `density` (the kernel's cut sampling Gaussian, whose
+// exponent is Re q: sum_transforms_and_density). `SlopeFactor`: ξ2 depends on H' (Kirchhoff),
+// else ξ2 = 1 and the term skips it.
+template <typename T, bool WithDensity, bool SlopeFactor>
 [[gnu::always_inline]] inline void add_prepared_chirped_term(const T& px, const T& py, const T& height,
                                                              const T& slope_x, const T& slope_y, const T& axx_re,
                                                              const T& axx_im, const T& axy_re, const T& axy_im,
                                                              const T& ayy_re, const T& ayy_im, const T& f_re,
-                                                             const T& f_im, const T& reach2,
-                                                             const TransformPoint& point, T& sum_re, T& sum_im) {
+                                                             const T& f_im, const T& reach2, const T& norm,
+                                                             const TransformPoint& point, T& sum_re, T& sum_im,
+                                                             T& density) {
     const T ux = point.vx + point.xi3_over_lambda * slope_x;  // v + a_k (Yan 2018 eq. 15)
     const T uy = point.vy + point.xi3_over_lambda * slope_y;
-    const T xi2 = 1.0 - point.xi2_gx * slope_x - point.xi2_gy * slope_y;
     const T ux2 = ux * ux;
     const T uxy = 2.0 * ux * uy;
     const T uy2 = uy * uy;
     const T q_re = axx_re * ux2 + axy_re * uxy + ayy_re * uy2;
     const T q_im = axx_im * ux2 + axy_im * uxy + ayy_im * uy2;
     // As in add_chirped_term: e^{−25} stands for anything smaller inside the widened box.
-    const T amplitude = xi2 * gabor_math::exp_neg(min_of(q_re, T{} + 25.0));
+    const T gaussian = gabor_math::exp_neg(min_of(q_re, T{} + 25.0));
+    T amplitude = gaussian;
+    if constexpr (SlopeFactor) amplitude *= 1.0 - point.xi2_gx * slope_x - point.xi2_gy * slope_y;
+    if constexpr (WithDensity) density += (q_re < 25.0 ? norm : T{} * 0.0) * gaussian;
     T cos_phase;
     T sin_phase;
     gabor_math::cos_sin_turns(point.xi3_over_lambda * height + px * point.vx + py * point.vy + (0.5 / pi) * q_im,
@@ -174,33 +163,66 @@ template <typename T>
     sum_im += kept * (cos_phase * f_im - sin_phase * f_re);
 }
 
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-void sum_prepared_chirped_terms(const KernelArrays& k, const ChirpFactors& c, std::size_t begin, std::size_t end,
-                                const TransformPoint& point, double& out_re, double& out_im) {
-    const auto add = [&](std::size_t i, auto& re, auto& im) __attribute__((always_inline)) {
+// The prepared terms of the runs' kernels into re, im and, with the norms (`WithDensity`), the
+// sampling density into `density`.
+template <bool WithDensity, bool SlopeFactor>
+[[gnu::always_inline]] inline void sum_prepared_terms(const KernelArrays& k, const ChirpFactors& c, const double* norm,
+                                                      const KernelRun* runs, std::size_t run_count,
+                                                      const TransformPoint& point, double& out_re, double& out_im,
+                                                      double& density) {
+    const auto add = [&](std::size_t i, auto& re, auto& im, auto& d) __attribute__((always_inline)) {
         using T = std::decay_t<decltype(re)>;
         using gabor_math::lanes;
-        add_prepared_chirped_term(lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]),
-                                  lanes<T>(&k.slope_x[i]), lanes<T>(&k.slope_y[i]), lanes<T>(&c.a_xx_re[i]),
-                                  lanes<T>(&c.a_xx_im[i]), lanes<T>(&c.a_xy_re[i]), lanes<T>(&c.a_xy_im[i]),
-                                  lanes<T>(&c.a_yy_re[i]), lanes<T>(&c.a_yy_im[i]), lanes<T>(&c.f_re[i]),
-                                  lanes<T>(&c.f_im[i]), lanes<T>(&c.reach2[i]), point, re, im);
+        add_prepared_chirped_term<T, WithDensity, SlopeFactor>(
+            lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]), lanes<T>(&k.slope_x[i]),
+            lanes<T>(&k.slope_y[i]), lanes<T>(&c.a_xx_re[i]), lanes<T>(&c.a_xx_im[i]), lanes<T>(&c.a_xy_re[i]),
+            lanes<T>(&c.a_xy_im[i]), lanes<T>(&c.a_yy_re[i]), lanes<T>(&c.a_yy_im[i]), lanes<T>(&c.f_re[i]),
+            lanes<T>(&c.f_im[i]), lanes<T>(&c.reach2[i]), WithDensity ? lanes<T>(norm + i) : T{} * 0.0, point, re, im,
+            d);
     };
-    sum_in_lanes(begin, end, add, out_re, out_im);
+    for (std::size_t r = 0; r < run_count; ++r) {
+        double re = 0.0, im = 0.0, d = 0.0;
+        gabor_math::sum_in_lanes(runs[r].begin, runs[r].end, add, re, im, d);
+        out_re += re;
+        out_im += im;
+        density += d;
+    }
+}
+
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+void sum_prepared_chirped_terms(const KernelArrays& k, const ChirpFactors& c, const KernelRun* runs,
+                                std::size_t run_count, const TransformPoint& point, double& out_re, double& out_im) {
+    double unused = 0.0;
+    if (point.xi2_gx == 0.0 && point.xi2_gy == 0.0)
+        sum_prepared_terms<false, false>(k, c, nullptr, runs, run_count, point, out_re, out_im, unused);
+    else
+        sum_prepared_terms<false, true>(k, c, nullptr, runs, run_count, point, out_re, out_im, unused);
+}
+
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+void sum_prepared_chirped_terms_and_density(const KernelArrays& k, const ChirpFactors& c, const double* norm,
+                                            const KernelRun* runs, std::size_t run_count,
+                                            const TransformPoint& point, double& out_re, double& out_im,
+                                            double& density) {
+    if (point.xi2_gx == 0.0 && point.xi2_gy == 0.0)
+        sum_prepared_terms<true, false>(k, c, norm, runs, run_count, point, out_re, out_im, density);
+    else
+        sum_prepared_terms<true, true>(k, c, norm, runs, run_count, point, out_re, out_im, density);
 }
 
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 void sum_chirped_terms(const KernelArrays& k, std::size_t begin, std::size_t end, const TransformPoint& point,
                        double reach, double beta, double chirp_scale, double& out_re, double& out_im) {
     const double reach2 = reach * reach;
-    const auto add = [&](std::size_t i, auto& re, auto& im) __attribute__((always_inline)) {
+    const auto add = [&](std::size_t i, auto& re, auto& im, auto&) __attribute__((always_inline)) {
         using T = std::decay_t<decltype(re)>;
         add_chirped_term(gabor_math::lanes<T>(&k.px[i]), gabor_math::lanes<T>(&k.py[i]), gabor_math::lanes<T>(&k.height[i]), gabor_math::lanes<T>(&k.slope_x[i]),
                          gabor_math::lanes<T>(&k.slope_y[i]), gabor_math::lanes<T>(&k.weight[i]), gabor_math::lanes<T>(&k.curvature_xx[i]),
                          gabor_math::lanes<T>(&k.curvature_xy[i]), gabor_math::lanes<T>(&k.curvature_yy[i]), point, reach2, beta,
                          chirp_scale, re, im);
     };
-    sum_in_lanes(begin, end, add, out_re, out_im);
+    double unused = 0.0;
+    gabor_math::sum_in_lanes(begin, end, add, out_re, out_im, unused);
 }
 
 }  // namespace
@@ -365,11 +387,20 @@ ChirpFactors chirp_factors(const KernelArrays& kernels, const KernelGrid& grid, 
     return c;
 }
 
-std::complex<double> sum_transforms(const KernelArrays& kernels, const ChirpFactors& factors, std::size_t begin,
-                                    std::size_t end, const TransformPoint& point) {
+std::complex<double> sum_transforms(const KernelArrays& kernels, const ChirpFactors& factors,
+                                    const std::vector<KernelRun>& runs, const TransformPoint& point) {
     double re = 0.0;
     double im = 0.0;
-    sum_prepared_chirped_terms(kernels, factors, begin, end, point, re, im);
+    sum_prepared_chirped_terms(kernels, factors, runs.data(), runs.size(), point, re, im);
+    return {re, im};
+}
+
+std::complex<double> sum_transforms_and_density(const KernelArrays& kernels, const ChirpFactors& factors,
+                                                const double* norm, const std::vector<KernelRun>& runs,
+                                                const TransformPoint& point, double& density) {
+    double re = 0.0;
+    double im = 0.0;
+    sum_prepared_chirped_terms_and_density(kernels, factors, norm, runs.data(), runs.size(), point, re, im, density);
     return {re, im};
 }
 

@@ -255,10 +255,25 @@ struct ChirpFactors {
 };
 ChirpFactors chirp_factors(const KernelArrays& kernels, const KernelGrid& grid, double xi3_over_lambda);
 
-// sum_transforms of second-order kernels with their factors at point.xi3_over_lambda (which must
-// equal factors.xi3_over_lambda): the same terms, w l² ξ2 e^{−i2π(ξ3 H/λ + m·v)} det(M)^{−1/2}
-// e^{−uᵀAu}, each cut at its widened reach.
-std::complex<double> sum_transforms(const KernelArrays& kernels, const ChirpFactors& factors, std::size_t begin,
-                                    std::size_t end, const TransformPoint& point);
+// Kernels [begin, end) of a footprint's arrays.
+struct KernelRun {
+    std::size_t begin = 0;
+    std::size_t end = 0;
+};
+
+// sum_transforms of second-order kernels, those of the runs, with their factors at
+// point.xi3_over_lambda (which must equal factors.xi3_over_lambda): the same terms,
+// w l² ξ2 e^{−i2π(ξ3 H/λ + m·v)} det(M)^{−1/2} e^{−uᵀAu}, each cut at its widened reach.
+std::complex<double> sum_transforms(const KernelArrays& kernels, const ChirpFactors& factors,
+                                    const std::vector<KernelRun>& runs, const TransformPoint& point);
+
+// That sum, and in the same pass Σ norm_k e^{−Re q_k} over the same kernels where Re q_k < 25,
+// added to `density`: where the sampler's ξ3 is the point's (OHS, R-OHS), Re q_k = β uᵀRe(M⁻¹)u
+// is the exponent of kernel k's sampling Gaussian at d = λv − ω̄_i, so with norm_k its weight over
+// its normalisation (gabor_sampling.hpp) this is the mixture's density from these kernels, and
+// the two sums share each kernel's exponential.
+std::complex<double> sum_transforms_and_density(const KernelArrays& kernels, const ChirpFactors& factors,
+                                                const double* norm, const std::vector<KernelRun>& runs,
+                                                const TransformPoint& point, double& density);
 
 }  // namespace glintscope::gabor

@@ -1,6 +1,7 @@
 #pragma once
 // Branch-free exp(−x) and e^{−i2πt} for the Gabor kernel sums: plain polynomials, so that they
 // also run on SIMD vectors, where libm has no calls to offer.
+#include <cstddef>
 #include <cstring>
 #include <type_traits>
 
@@ -73,6 +74,43 @@ template <typename T>
     const T c2 = (c - s) * (c + s);
     sin_out = 2.0 * s2 * c2;  // 4θ = 2πr
     cos_out = (c2 - s2) * (c2 + s2);
+}
+
+using Double4 = double __attribute__((vector_size(32)));
+
+// Σ over kernels [begin, end) four per step in SIMD lanes: add(i, a, b, c) adds the terms of
+// kernels i… to the sums a, b, c (double or Double4; a caller may leave some unused). Each lane
+// sums a fixed subset of the kernels, so the result depends only on the kernel order. The last
+// 1–3 kernels take the upper lanes of the four that end at `end`, whose lower lanes (the kernels
+// before them in the arrays, which hold [0, end)) are computed and left out; only when end < 4
+// are they added one by one.
+template <typename Add>
+[[gnu::always_inline]] inline void sum_in_lanes(std::size_t begin, std::size_t end, const Add& add, double& out_a,
+                                                double& out_b, double& out_c) {
+    Double4 a4 = {0.0, 0.0, 0.0, 0.0};
+    Double4 b4 = a4;
+    Double4 c4 = a4;
+    std::size_t i = begin;
+    for (; i + 4 <= end; i += 4) add(i, a4, b4, c4);
+    double a = 0.0;
+    double b = 0.0;
+    double c = 0.0;
+    if (i < end && end >= 4) {
+        Double4 tail_a = {0.0, 0.0, 0.0, 0.0};
+        Double4 tail_b = tail_a;
+        Double4 tail_c = tail_a;
+        add(end - 4, tail_a, tail_b, tail_c);
+        for (std::size_t lane = i + 4 - end; lane < 4; ++lane) {
+            a += tail_a[lane];
+            b += tail_b[lane];
+            c += tail_c[lane];
+        }
+    } else {
+        for (; i < end; ++i) add(i, a, b, c);
+    }
+    out_a = ((a4[0] + a4[1]) + (a4[2] + a4[3])) + a;
+    out_b = ((b4[0] + b4[1]) + (b4[2] + b4[3])) + b;
+    out_c = ((c4[0] + c4[1]) + (c4[2] + c4[3])) + c;
 }
 
 }  // namespace glintscope::gabor_math

@@ -2,7 +2,8 @@
 // (renderers' shading points): eval is GaborSurface's point query (Yan 2018 eq. 16–17 over the
 // pruning hierarchy of §5), built once per heightfield. At one footprint (make_bsdf, many
 // directions): eval sums the footprint's kernels through a SlopeIndex built once. Sample and pdf
-// are the footprint's kernel mixture (gabor_sampling.hpp) in both.
+// are the footprint's kernel mixture (gabor_sampling.hpp) over the footprint's slope index in
+// both; at one footprint a sample also brings f_r, computed in the same pass as its pdf.
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -56,6 +57,37 @@ std::vector<double> indexed_f_r(const gabor::SlopeIndex& index, DiffractionModel
     return values;
 }
 
+// A sample of the footprint's mixture with f_r at its direction. Where the mixture's Gaussians
+// share their exponents with the kernels' transforms (shared_norms), one pass over the kernels
+// that eval sums gives f_r and their part of the pdf, each kernel's exponential computed once,
+// and the pdf adds its other kernels; elsewhere the pdf alone, and the BSDF evaluates f_r.
+EvaluatedSample sample_with_f_r(const gabor::SlopeIndex& index, const gabor::KernelMixture& mixture,
+                                DiffractionModel model, const MaterialChoice& material, double area_um2,
+                                const std::vector<double>& wavelengths_um, Vec3 omega_i, double u1, double u2) {
+    const std::optional<Vec3> omega_o = mixture.draw(omega_i, u1, u2);
+    if (!omega_o) return {};
+    if (!mixture.shared_norms(0)) return {{*omega_o, mixture.pdf(omega_i, *omega_o)}, {}};
+    const std::size_t layers = wavelengths_um.size();
+    std::vector<double> density(layers, 0.0);
+    std::vector<std::vector<gabor::KernelRun>> summed(layers);
+    std::vector<double> f_r(layers, 0.0);
+    for (std::size_t layer = 0; layer < layers; ++layer) {
+        const double lambda = wavelengths_um[layer];
+        const gabor::TransformPoint point = gabor::transform_point(model, gabor::FresnelAtWavelength(material, lambda),
+                                                                   omega_i, *omega_o, lambda, area_um2);
+        const gabor::ChirpFactors* factors = index.reaching_runs(point, summed[layer]);
+        if (factors) {
+            f_r[layer] = point.brdf_scale * std::norm(gabor::sum_transforms_and_density(
+                                                index.kernels(), *factors, mixture.shared_norms(layer), summed[layer],
+                                                point, density[layer]));
+        } else {  // the pdf sums these kernels itself
+            f_r[layer] = point.brdf_scale * std::norm(index.sum(point));
+            summed[layer].clear();
+        }
+    }
+    return {{*omega_o, mixture.pdf_completing(omega_i, *omega_o, density, summed)}, std::move(f_r)};
+}
+
 }  // namespace
 
 PointAnswersAt gabor_point_field(const LobeQuery& query) {
@@ -79,7 +111,8 @@ PointAnswersAt gabor_point_field(const LobeQuery& query) {
         set_sampling(answers, std::make_shared<const LazyMixture>([=] {
                          const gabor::CoherenceWindow window(footprint, footprint_sigmas);
                          return gabor::KernelMixture(
-                             gabor::gather_kernels(*interpolant, grid, window, footprint.centre_um).arrays, grid,
+                             std::make_shared<const gabor::SlopeIndex>(
+                                 gabor::gather_kernels(*interpolant, grid, window, footprint.centre_um).arrays, grid),
                              model, wavelengths);
                      }));
         return answers;
@@ -107,8 +140,12 @@ PointAnswers gabor_point_answers(const LobeQuery& query) {
     answers.eval_at_wavelengths = [=](Vec3 omega_i, Vec3 omega_o, const std::vector<double>& chosen) {
         return indexed_f_r(*index, model, material, area, omega_i, omega_o, chosen);
     };
-    set_sampling(answers, std::make_shared<const LazyMixture>(
-                              [=] { return gabor::KernelMixture(index->kernels(), grid, model, wavelengths); }));
+    const auto mixture =
+        std::make_shared<const LazyMixture>([=] { return gabor::KernelMixture(index, model, wavelengths); });
+    set_sampling(answers, mixture);
+    answers.sample_with_f_r = [=](Vec3 omega_i, double u1, double u2) {
+        return sample_with_f_r(*index, mixture->get(), model, material, area, wavelengths, omega_i, u1, u2);
+    };
     return answers;
 }
 

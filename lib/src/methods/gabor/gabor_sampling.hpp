@@ -3,10 +3,12 @@
 // kernel by its weight, then a direction from that kernel's directional Gaussian, but with the
 // exact pdf of that mixture, so that the weight f_r cosθ_o / pdf is honest (the paper set it to 1).
 // docs/gabor.md "Sampling" derives the densities.
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "gabor_kernels.hpp"
+#include "gabor_slope_index.hpp"
 #include "lobe/point_answers.hpp"
 
 namespace glintscope::gabor {
@@ -18,24 +20,41 @@ namespace glintscope::gabor {
 //   mean −ω̄_i − ξ3 H'_k,   covariance λ²/(4π²σ_k²) I + σ_k² ξ3² (H''_k)²
 // (H'' = 0 at first order; ξ3 of the model at ω_i's mirror direction), cut where it falls to
 // e^{−25} of its peak. The pdf per solid angle is cosθ_o times the mixture's density in d, a
-// sum over every kernel of the footprint; d outside the unit disk is no direction (pdf 0).
+// sum over the kernels whose cut Gaussian holds d: those of the cells of the footprint's slope
+// index (which orders the kernels by H'_k, so by their means) that can reach d; d outside the
+// unit disk is no direction (pdf 0).
 class KernelMixture {
 public:
-    KernelMixture(const KernelArrays& kernels, const KernelGrid& grid, DiffractionModel model,
-                  std::vector<double> wavelengths_um);
+    // The kernels of the index, in its order (gather_kernels' weights, all positive).
+    KernelMixture(std::shared_ptr<const SlopeIndex> index, DiffractionModel model, std::vector<double> wavelengths_um);
 
     DirectionSample sample(Vec3 omega_i, double u1, double u2) const;
-    // sample()'s direction without its pdf (a sum over every kernel): none outside the disk.
+    // sample()'s direction without its pdf: none outside the disk.
     std::optional<Vec3> draw(Vec3 omega_i, double u1, double u2) const;
     double pdf(Vec3 omega_i, Vec3 omega_o) const;
 
+    // Where the Gaussians' exponents are the kernels' transforms' Re q at the query's wavelength
+    // `layer` (OHS, R-OHS: fixed ξ3 and covariances; sum_transforms_and_density), the Gaussians'
+    // norm_k (in the index's order) that turn them into this layer's density; else null.
+    const double* shared_norms(std::size_t layer) const;
+    // pdf() of ω_o given, per layer, the density already summed over the kernel runs `summed`
+    // (sorted, disjoint), which it leaves out of its own sums. Empty vectors: nothing summed.
+    double pdf_completing(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& summed_density,
+                          const std::vector<std::vector<KernelRun>>& summed) const;
+
 private:
-    // Per kernel, the Gaussian of one wavelength and curvature scale: q/2 = qxx e_x² + qxy e_x e_y
-    // + qyy e_y² with e = d − μ_k, and its weight w_k/Σw over its normalisation.
+    // Per kernel of [first, first + size), the Gaussian of one wavelength and curvature scale:
+    // q/2 = qxx e_x² + qxy e_x e_y + qyy e_y² with e = d − μ_k, and its weight w_k/Σw over its
+    // normalisation.
     struct Gaussians {
+        std::size_t first = 0;
         std::vector<double> qxx, qxy, qyy, norm;
     };
-    Gaussians gaussians(double lambda_um, double curvature) const;
+    Gaussians gaussians(double lambda_um, double curvature, std::size_t first, std::size_t end) const;
+    // Σ over the kernels of the runs (inside g's range) of their Gaussians at d = μ_k + e,
+    // e = (px, py) + ξ3 H'_k.
+    double sum_gaussians(const Gaussians& g, const std::vector<KernelRun>& runs, double px, double py,
+                         double xi) const;
     // ξ3 at ω_i's mirror direction, which places the Gaussians.
     double sampling_xi3(Vec3 omega_i) const;
     // σ_k² ξ3² (0 at first order) and λ²/(4π²σ_k²): kernel k's covariance is
@@ -43,19 +62,18 @@ private:
     double curvature_scale(Vec3 omega_i) const;
     double diffraction_variance(double lambda_um) const;
 
+    std::shared_ptr<const SlopeIndex> index_;
     DiffractionModel model_;
     std::vector<double> wavelengths_um_;
     double sigma_um_;
     bool chirped_ = false;
     std::vector<double> probability_;  // w_k / Σ w
     std::vector<double> cumulative_;   // Σ_{j ≤ k} probability_j
-    std::vector<double> slope_x_;      // H'_k
-    std::vector<double> slope_y_;
     std::vector<double> square_xx_;    // (H''_k)², symmetric: xx, xy, yy
     std::vector<double> square_xy_;
     std::vector<double> square_yy_;
     // One per wavelength when the covariances do not depend on ω_i (first order, or ξ3 = 2);
-    // otherwise (second order with GHS, R-GHS, Kirchhoff) made per call.
+    // otherwise (second order with GHS, R-GHS, Kirchhoff) made per call for the reached kernels.
     std::vector<Gaussians> fixed_;
 };
 

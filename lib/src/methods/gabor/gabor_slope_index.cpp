@@ -8,22 +8,12 @@
 namespace glintscope::gabor {
 namespace {
 
-// The cell tests widen the kernels' reach by this factor, so that their rounding (which differs
-// from the sum's) never leaves out a kernel the sum keeps; the sum itself cuts each term exactly.
-constexpr double kReachMargin = 1.0 + 1e-9;
-
 // About this many kernels per cell: small cells fit a direction's box closely, large ones make
 // fewer runs to sum.
 constexpr double kKernelsPerCell = 4.0;
 constexpr int kMaxCellsPerAxis = 64;
 
 }  // namespace
-
-inline int SlopeIndex::cell_of(double slope, double origin, double inverse_width, int cells) {
-    const double t = (slope - origin) * inverse_width;
-    if (!(t >= 0.0)) return 0;
-    return t >= cells ? cells - 1 : static_cast<int>(t);
-}
 
 SlopeIndex::SlopeIndex(const KernelArrays& kernels, const KernelGrid& grid,
                        const std::vector<double>& prepared_xi3_over_lambda)
@@ -84,26 +74,21 @@ double SlopeIndex::cell_reach(double radius, double t) const {
     return kReachMargin * (grid_.order == 2 ? chirped_reach(grid_.reach, grid_.chirp_scale, t, radius) : grid_.reach);
 }
 
-std::complex<double> SlopeIndex::sum_run(std::size_t begin, std::size_t end, const TransformPoint& point,
-                                         const ChirpFactors* factors) const {
-    return factors ? sum_transforms(kernels_, *factors, begin, end, point)
-                   : sum_transforms(kernels_, begin, end, point, grid_);
+std::complex<double> SlopeIndex::sum(const TransformPoint& point) const {
+    // Reused by each thread: no allocation per call.
+    thread_local std::vector<KernelRun> runs;
+    runs.clear();
+    const ChirpFactors* factors = reaching_runs(point, runs);
+    if (factors) return sum_transforms(kernels_, *factors, runs, point);
+    std::complex<double> total = 0.0;
+    for (const KernelRun& run : runs) total += sum_transforms(kernels_, run.begin, run.end, point, grid_);
+    return total;
 }
 
-std::complex<double> SlopeIndex::sum(const TransformPoint& point) const {
+const ChirpFactors* SlopeIndex::reaching_runs(const TransformPoint& point, std::vector<KernelRun>& runs) const {
     const double t = point.xi3_over_lambda;
-    if (!(t > 0.0 && std::isfinite(t))) return sum_transforms(kernels_, 0, kernels_.size(), point, grid_);
-    // Kernel k reaches v when |v + t H'_k| ≤ R_k per axis (Yan 2018 eq. 15 and §5), i.e. when
-    // H'_k ∈ [(−R_k − v)/t, (R_k − v)/t]; R_k = reach at first order, chirped_reach at second.
-    const double widest = cell_reach(largest_radius_, t);
-    if ((widest - point.vx) / t < origin_x_ || (-widest - point.vx) / t > last_x_ ||
-        (widest - point.vy) / t < origin_y_ || (-widest - point.vy) / t > last_y_)
-        return {0.0, 0.0};
-    // The rectangle of cells that the widest reach meets, then each cell by its kernels' bounds.
-    const int i0 = cell_of((-widest - point.vx) / t, origin_x_, inverse_width_x_, cells_x_);
-    const int i1 = cell_of((widest - point.vx) / t, origin_x_, inverse_width_x_, cells_x_);
-    const int j0 = cell_of((-widest - point.vy) / t, origin_y_, inverse_width_y_, cells_y_);
-    const int j1 = cell_of((widest - point.vy) / t, origin_y_, inverse_width_y_, cells_y_);
+    // Kernel k reaches v when |v + t H'_k| ≤ R_k per axis (Yan 2018 eq. 15 and §5); R_k = reach
+    // at first order, chirped_reach at second.
     const ChirpFactors* factors = nullptr;
     const double* prepared_reach = nullptr;  // each cell's reach when the factors are prepared
     for (const Prepared& prepared : prepared_)
@@ -112,24 +97,14 @@ std::complex<double> SlopeIndex::sum(const TransformPoint& point) const {
             prepared_reach = prepared.cell_reach.data();
         }
     const bool chirped = grid_.order == 2;
-    std::complex<double> total = 0.0;
-    for (int j = j0; j <= j1; ++j) {
-        const std::size_t row = static_cast<std::size_t>(j) * cells_x_;
-        std::size_t run_begin = 0;
-        std::size_t run_end = 0;  // [run_begin, run_end): reaching kernels not yet summed
-        for (int i = i0; i <= i1; ++i) {
-            const CellBounds& b = bounds_[row + i];
-            const double reach = prepared_reach ? prepared_reach[row + i] : chirped ? cell_reach(b.radius, t) : widest;
-            if (!slopes_reach(point.vx, point.vy, t, reach, b.x_min, b.x_max, b.y_min, b.y_max)) continue;
-            if (starts_[row + i] != run_end) {
-                if (run_end > run_begin) total += sum_run(run_begin, run_end, point, factors);
-                run_begin = starts_[row + i];
-            }
-            run_end = starts_[row + i + 1];
-        }
-        if (run_end > run_begin) total += sum_run(run_begin, run_end, point, factors);
-    }
-    return total;
+    const double widest = cell_reach(largest_radius_, t);
+    const auto keep = [&](const CellBounds& b, std::size_t cell) {
+        const double reach = prepared_reach ? prepared_reach[cell] : chirped ? cell_reach(b.radius, t) : widest;
+        return slopes_reach(point.vx, point.vy, t, reach, b.x_min, b.x_max, b.y_min, b.y_max);
+    };
+    for_each_run(point.vx, point.vy, t, widest, keep,
+                 [&](std::size_t begin, std::size_t end) { runs.push_back({begin, end}); });
+    return factors;
 }
 
 }  // namespace glintscope::gabor

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "core/counter_rng.hpp"
@@ -13,6 +15,7 @@
 #include "mean_weight.hpp"
 #include "method_cases.hpp"
 #include "methods/gabor/gabor_kernels.hpp"
+#include "methods/gabor/gabor_math.hpp"
 #include "methods/gabor/gabor_sampling.hpp"
 
 namespace glintscope {
@@ -28,8 +31,10 @@ gabor::KernelMixture mixture(int order, DiffractionModel model) {
     settings.order = order;
     const gabor::KernelGrid grid = gabor::kernel_grid(query.surface->texel_um(), settings);
     const gabor::CoherenceWindow window(query.footprint, settings.footprint_sigmas);
-    return gabor::KernelMixture(gabor::gather_kernels(*query.surface, grid, window, query.footprint.centre_um).arrays,
-                                grid, model, query.wavelengths_um);
+    return gabor::KernelMixture(
+        std::make_shared<const gabor::SlopeIndex>(
+            gabor::gather_kernels(*query.surface, grid, window, query.footprint.centre_um).arrays, grid),
+        model, query.wavelengths_um);
 }
 
 // 10⁶ draws counted on 40 × 40 cells of the disk of ω_o against the pdf integrated over them
@@ -75,6 +80,120 @@ TEST(GaborSampling, RghsDrawsFollowTheMixturePdf) {
 
 TEST(GaborSampling, FirstOrderDrawsFollowTheMixturePdf) {
     expect_draws_follow_the_pdf(mixture(1, DiffractionModel::rohs), {30.0}, 4);
+}
+
+// The mixture's density written out plainly over every kernel of the footprint (docs/gabor.md
+// "Sampling"): (1/L) Σ_λ Σ_k (w_k/Σw) N(d; μ_k, S_k,λ) cut at e^{−25} of its peak and renormalised,
+// times cosθ_o, with the sum's own exp (gabor_math::exp_neg), so that only the order of the terms
+// differs from pdf().
+double pdf_over_every_kernel(const gabor::KernelArrays& k, const gabor::KernelGrid& grid, DiffractionModel model,
+                             const std::vector<double>& wavelengths, Vec3 omega_i, Vec3 omega_o) {
+    const double xi = xi3(model, omega_i, {-omega_i.x, -omega_i.y, omega_i.z});
+    const double sigma = grid.sigma_um;
+    const double curvature = grid.order == 2 ? sigma * sigma * xi * xi : 0.0;
+    double total_weight = 0.0;
+    for (std::size_t i = 0; i < k.size(); ++i) total_weight += k.weight[i];
+    double density = 0.0;
+    for (const double lambda : wavelengths) {
+        const double diffraction = lambda * lambda / (4.0 * pi * pi * sigma * sigma);
+        for (std::size_t i = 0; i < k.size(); ++i) {
+            const double a = grid.order == 2 ? k.curvature_xx[i] : 0.0;
+            const double b = grid.order == 2 ? k.curvature_xy[i] : 0.0;
+            const double c = grid.order == 2 ? k.curvature_yy[i] : 0.0;
+            // S = diffraction I + curvature (H'')².
+            const double sxx = diffraction + curvature * (a * a + b * b);
+            const double sxy = curvature * b * (a + c);
+            const double syy = diffraction + curvature * (c * c + b * b);
+            const double det = sxx * syy - sxy * sxy;
+            // e = d − μ_k with d = ω_o,xy and μ_k = −ω_i,xy − ξ3 H'_k.
+            const double ex = omega_o.x + omega_i.x + xi * k.slope_x[i];
+            const double ey = omega_o.y + omega_i.y + xi * k.slope_y[i];
+            const double half_q = (syy * ex * ex - 2.0 * sxy * ex * ey + sxx * ey * ey) / (2.0 * det);
+            if (half_q < 25.0)
+                density += k.weight[i] / total_weight * gabor_math::exp_neg(half_q) /
+                           (2.0 * pi * std::sqrt(det) * -std::expm1(-25.0));
+        }
+    }
+    return density / wavelengths.size() * omega_o.z;
+}
+
+// The pdf sums only the kernels of the slope index's cells that can reach d; every other kernel's
+// cut Gaussian is 0 there, so it equals the sum over every kernel (to rounding), at both orders,
+// for a model with fixed covariances (R-OHS) and two whose chirped covariances are made per call,
+// on two footprints, near the mirror direction and over the whole disk (where one dropped kernel
+// may be most of the density: a reach shrunk by 10% fails this).
+TEST(GaborSampling, PdfOfTheReachingCellsIsThePdfOfEveryKernel) {
+    const std::shared_ptr<const BicubicInterpolant> surface = testing::isotropic_builtin_query(Quantity::brdf).surface;
+    const std::vector<double> wavelengths = {0.45, 0.6};
+    const CounterRng rng(22, 7);
+    long uniform_index = 0;
+    int compared = 0, tails = 0;
+    for (const Point2 centre : {Point2{512.0, 512.0}, Point2{311.0, 702.5}})
+        for (const int order : {1, 2})
+            for (const DiffractionModel model : {DiffractionModel::rohs, DiffractionModel::ghs, DiffractionModel::kirchhoff}) {
+                GaborSettings settings;
+                settings.order = order;
+                const gabor::KernelGrid grid = gabor::kernel_grid(surface->texel_um(), settings);
+                Footprint footprint;
+                footprint.centre_um = centre;
+                footprint.sigma_um = centre.x == 512.0 ? 10.0 : 7.0;
+                const gabor::CoherenceWindow window(footprint, settings.footprint_sigmas);
+                const gabor::KernelArrays all = gabor::gather_kernels(*surface, grid, window, centre).arrays;
+                const auto index = std::make_shared<const gabor::SlopeIndex>(all, grid);
+                const gabor::KernelMixture m(index, model, wavelengths);
+                for (const double degrees : {20.0, 70.0}) {
+                    const Vec3 omega_i = incidence(degrees);
+                    for (int j = 0; j < 150; ++j) {
+                        // Every other direction near the mirror direction, the rest uniform over the disk.
+                        const double u1 = rng.uniform(uniform_index++), u2 = rng.uniform(uniform_index++);
+                        const double radius = j % 2 == 0 ? 0.2 * std::sqrt(u1) : std::sqrt(u1);
+                        double x = radius * std::cos(2.0 * pi * u2), y = radius * std::sin(2.0 * pi * u2);
+                        if (j % 2 == 0) x -= omega_i.x, y -= omega_i.y;
+                        if (!(x * x + y * y < 1.0)) continue;
+                        const Vec3 omega_o = direction_from_disk(x, y);
+                        const double every = pdf_over_every_kernel(index->kernels(), grid, model, wavelengths, omega_i, omega_o);
+                        const double indexed = m.pdf(omega_i, omega_o);
+                        EXPECT_NEAR(indexed, every, 1e-12 * every)
+                            << "order " << order << ", model " << static_cast<int>(model) << ", " << degrees << " degrees";
+                        ++compared;
+                        tails += every > 0.0 && every < 1e-3;
+                    }
+                }
+            }
+    EXPECT_GT(compared, 3000);
+    EXPECT_GT(tails, 100) << "directions in the tails, where a missed kernel would show";
+}
+
+// Bsdf::sample of a footprint's BSDF gets f_r and the pdf from one pass over the kernels eval
+// sums where the mixture's Gaussians share their exponents with the transforms (R-OHS, OHS at
+// second order), then the pdf's other kernels: its weight is eval's f_r cosθ_o / pdf and its pdf
+// is pdf()'s, as on the paths that share nothing (first order, GHS).
+TEST(GaborSampling, SampleSharingItsSumsAgreesWithEvalAndPdf) {
+    LobeQuery query = testing::isotropic_builtin_query(Quantity::brdf);
+    const CounterRng rng(22, 8);
+    long index = 0;
+    for (const int order : {2, 1})
+        for (const DiffractionModel model : {DiffractionModel::rohs, DiffractionModel::ohs, DiffractionModel::ghs}) {
+            query.method_options["order"] = std::to_string(order);
+            query.model = model;
+            const Bsdf bsdf = make_bsdf("gabor", query);
+            int sampled = 0;
+            for (const double degrees : {20.0, 60.0})
+                for (int k = 0; k < 60; ++k) {
+                    const Vec3 omega_i = incidence(degrees);
+                    const BsdfSample s = bsdf.sample(omega_i, rng.uniform(index), rng.uniform(index + 1));
+                    index += 2;
+                    if (!(s.pdf > 0.0)) continue;
+                    ++sampled;
+                    EXPECT_NEAR(s.pdf, bsdf.pdf(omega_i, s.omega_o), 1e-12 * s.pdf) << "order " << order;
+                    const std::vector<double> f = bsdf.eval(omega_i, s.omega_o);
+                    for (std::size_t layer = 0; layer < f.size(); ++layer) {
+                        const double weight = f[layer] * s.omega_o.z / s.pdf;
+                        EXPECT_NEAR(s.weight[layer], weight, 1e-12 * weight + 1e-300) << "order " << order;
+                    }
+                }
+            EXPECT_GT(sampled, 80);
+        }
 }
 
 // The weight is honest: its mean over samples is ∫ f_r cosθ_o dω_o, which albedo() computes by
