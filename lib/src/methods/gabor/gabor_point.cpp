@@ -7,13 +7,13 @@
 #include <cmath>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <optional>
 
 #include "gabor.hpp"
 #include "gabor_kernels.hpp"
 #include "gabor_sampling.hpp"
 #include "gabor_slope_index.hpp"
+#include "core/lazy.hpp"
 #include "glintscope/core/error.hpp"
 
 namespace glintscope {
@@ -21,20 +21,7 @@ namespace {
 
 // One footprint's kernel mixture, made on the first sample or pdf: a renderer's shading point
 // that is only evaluated never pays for interpolating the footprint's kernels.
-class LazyMixture {
-public:
-    explicit LazyMixture(std::function<gabor::KernelMixture()> make) : make_(std::move(make)) {}
-
-    const gabor::KernelMixture& get() const {
-        std::call_once(once_, [this] { mixture_.emplace(make_()); });
-        return *mixture_;
-    }
-
-private:
-    std::function<gabor::KernelMixture()> make_;
-    mutable std::once_flag once_;
-    mutable std::optional<gabor::KernelMixture> mixture_;
-};
+using LazyMixture = Lazy<gabor::KernelMixture>;
 
 void set_sampling(PointAnswers& answers, std::shared_ptr<const LazyMixture> mixture) {
     answers.sample = [mixture](Vec3 omega_i, double u1, double u2) { return mixture->get().sample(omega_i, u1, u2); };
