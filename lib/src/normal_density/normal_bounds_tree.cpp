@@ -48,6 +48,18 @@ void image_samples(const BicubicInterpolant& surface, const NormalDensitySetting
     });
 }
 
+// The Catmull–Rom weights at a/n for a = 0 … n, for every n up to kMaxRefinement, made once:
+// each is catmull_rom(a/n) itself, so a sub-corner's image is what it was without the table.
+const CubicWeights* sub_corner_weights(int n) {
+    static const std::vector<CubicWeights> table = [] {
+        std::vector<CubicWeights> weights;
+        for (int m = 1; m <= kMaxRefinement; ++m)
+            for (int a = 0; a <= m; ++a) weights.push_back(catmull_rom(static_cast<double>(a) / m));
+        return weights;
+    }();
+    return table.data() + static_cast<std::size_t>(n - 1) * (n + 2) / 2;  // Σ_{m<n} (m + 1) entries before n
+}
+
 // The interpolant on texel cell (i, j) (BicubicInterpolant::evaluate, Catmull–Rom along each
 // axis) with its 4 × 4 samples read once: the normal images of the cell's sub-corners at
 // (a/n, b/n), as the image evaluates them up to rounding (the image's grid steps from the cell's
@@ -74,7 +86,8 @@ struct CellPatch {
     }
 
     Pixel at(int n, int a, int b) const {
-        const CubicWeights x = catmull_rom(static_cast<double>(a) / n), y = catmull_rom(static_cast<double>(b) / n);
+        const CubicWeights* weights = sub_corner_weights(n);
+        const CubicWeights &x = weights[a], &y = weights[b];
         double dh_du = 0.0, dh_dv = 0.0;
         for (int m = 0; m < 4; ++m) {
             double along_x = 0.0, along_x_du = 0.0;
@@ -102,19 +115,29 @@ CellCorners cell_corners(const NormalBoundsTree& tree, int i, int j) {
     return {tree.samples[row + i], tree.samples[row + right], tree.samples[above + i], tree.samples[above + right]};
 }
 
+// Storage for a divided cell's sub-corner images, one per thread, sized for the largest n
+// (kMaxRefinement) once: stamps tell which images belong to the cell in use.
+struct SubCornerStore {
+    std::vector<Pixel> images;
+    std::vector<std::uint32_t> stamps;
+    std::uint32_t generation = 0;
+};
+
+// This thread's store: looked up once per query (a thread_local access in a shared library is a call).
+SubCornerStore& sub_corner_store() {
+    thread_local SubCornerStore store{std::vector<Pixel>((kMaxRefinement + 1) * (kMaxRefinement + 1)),
+                                      std::vector<std::uint32_t>((kMaxRefinement + 1) * (kMaxRefinement + 1), 0), 0};
+    return store;
+}
+
 // The images of a divided cell's sub-corners: its four corners are the samples' images (as an
-// undivided neighbour's), the others evaluated once per use of the cell, on first need; the
-// storage is kept per thread (no allocation once a thread has met the largest n).
+// undivided neighbour's), the others evaluated once per use of the cell, on first need.
 class SubCorners {
 public:
-    SubCorners(const CellPatch& patch, const CellCorners& corners, int n) : patch_(patch), corners_(corners), n_(n) {
-        thread_local std::vector<Pixel> images;
-        thread_local std::vector<std::uint32_t> stamps;
-        thread_local std::uint32_t generation = 0;
-        const std::size_t count = static_cast<std::size_t>(n + 1) * (n + 1);
-        if (stamps.size() < count) stamps.resize(count, 0), images.resize(count);
-        if (++generation == 0) std::fill(stamps.begin(), stamps.end(), 0), generation = 1;
-        images_ = images.data(), stamps_ = stamps.data(), generation_ = generation;
+    SubCorners(const CellPatch& patch, const CellCorners& corners, int n, SubCornerStore& store)
+        : patch_(patch), corners_(corners), n_(n) {
+        if (++store.generation == 0) std::fill(store.stamps.begin(), store.stamps.end(), 0), store.generation = 1;
+        images_ = store.images.data(), stamps_ = store.stamps.data(), generation_ = store.generation;
     }
 
     Pixel at(int a, int b) const {
@@ -174,7 +197,7 @@ CellBounds cell_bounds(const NormalBoundsTree& tree, int i, int j) {
         return bounds;
     }
     const CellPatch patch(tree, i, j);
-    const SubCorners corners(patch, c, n);
+    const SubCorners corners(patch, c, n, sub_corner_store());
     for (int q = 0; q < 4; ++q) {
         const Quadrant r = quadrant(n, q);
         const Pixel p00 = corners.at(r.a0, r.b0), p10 = corners.at(r.a1, r.b0);
@@ -271,10 +294,18 @@ void build_bins(NormalBoundsTree& tree, double reach) {
             for (int bu = r.bu0; bu <= r.bu1; ++bu)
                 visit(static_cast<std::size_t>(tree.bin_rows[static_cast<std::size_t>(bv) * tree.bins_across + bu]));
     };
-    for (std::size_t t = 0; t < tiles; ++t)
+    // Tile t writes only its own column (t + 1, then t) of counts and cursors: the tiles run in
+    // parallel, and each tile's entries keep their row-major order whatever the thread count.
+    const auto per_tile = [&](const auto& body) {
+        parallel_for(tiles, 1, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t t = begin; t < end; ++t) body(t);
+        });
+    };
+    per_tile([&](std::size_t t) {
         for_cells_of_tile(tree, static_cast<int>(t), [&](int i, int j, int) {
             for_bins(bounds[static_cast<std::size_t>(j) * grid.cols + i], [&](std::size_t row) { ++counts[row * stride + t + 1]; });
         });
+    });
     for (std::size_t k = 1; k < counts.size(); ++k) counts[k] += counts[k - 1];
     if (counts.back() > std::numeric_limits<std::uint32_t>::max())
         throw Error("the field is too large for the point query's index of normal bounds");
@@ -284,7 +315,7 @@ void build_bins(NormalBoundsTree& tree, double reach) {
     for (std::size_t cell = 0; cell < bounds.size(); ++cell)
         for (int q = 0; q < 4; ++q) tree.quadrant_strays[cell][q] = quantised(tree, tree.origin + bounds[cell].strays[q], true);
     std::vector<std::size_t> cursor = std::move(counts);
-    for (std::size_t t = 0; t < tiles; ++t)
+    per_tile([&](std::size_t t) {
         for_cells_of_tile(tree, static_cast<int>(t), [&](int i, int j, int place) {
             const std::size_t cell = static_cast<std::size_t>(j) * grid.cols + i;
             const CellBounds& b = bounds[cell];
@@ -294,6 +325,7 @@ void build_bins(NormalBoundsTree& tree, double reach) {
             entry.v_low = quantised(tree, b.v_low - reach, false), entry.v_high = quantised(tree, b.v_high + reach, true);
             for_bins(b, [&](std::size_t row) { tree.cells[cursor[row * stride + t]++] = entry; });
         });
+    });
 }
 
 // ---- The query ------------------------------------------------------------------------------
@@ -391,6 +423,7 @@ struct Query {
     bool prune = true;
     Pixel normal_quanta;
     std::int64_t bin_row = -1;
+    SubCornerStore& store;
 
     // The lattice's x of the unwrapped cell I (as the image computes it, from its origin).
     double cell_x(long long cell) const { return lattice.x0 + static_cast<double>(cell - first_x) * lattice.step_x; }
@@ -413,7 +446,7 @@ struct Query {
         const CellCorners c = cell_corners(tree, i, j);
         if (n == 1) return pair(c.p00, c.p10, c.p01, c.p11, 0, 0);
         const CellPatch patch(tree, i, j);
-        const SubCorners corners(patch, c, n);
+        const SubCorners corners(patch, c, n, store);
         const std::array<std::uint16_t, 4>& strays = tree.quadrant_strays[static_cast<std::size_t>(j) * tree.grid.cols + i];
         double sum = 0.0;
         for (int q = 0; q < 4; ++q) {
@@ -422,14 +455,17 @@ struct Query {
             const Pixel q01 = corners.at(r.a0, r.b1), q11 = corners.at(r.a1, r.b1);
             const double widening = strays[q] * tree.quantum + reach;
             if (prune && !quad_holds(q00, q10, q01, q11, widening)) continue;
-            const double width = r.a1 - r.a0, height = r.b1 - r.b0;
+            const double inverse_width = 1.0 / (r.a1 - r.a0), inverse_height = 1.0 / (r.b1 - r.b0);
             for (int b = r.b0; b < r.b1; ++b) {
                 // The blend along sub-rows b and b + 1: linear in a from the quadrant's left edge to its right.
-                const double t0 = (b - r.b0) / height, t1 = (b + 1 - r.b0) / height;
+                const double t0 = (b - r.b0) * inverse_height, t1 = (b + 1 - r.b0) * inverse_height;
                 const Pixel left0 = bilinear(q00, q10, q01, q11, 0.0, t0), right0 = bilinear(q00, q10, q01, q11, 1.0, t0);
                 const Pixel left1 = bilinear(q00, q10, q01, q11, 0.0, t1), right1 = bilinear(q00, q10, q01, q11, 1.0, t1);
+                // The row's sub-cells' blended corners lie on the segments left0–right0 and
+                // left1–right1, so within their ends' box: a row whose widened box misses h is skipped whole.
+                if (prune && !quad_holds(left0, right0, left1, right1, widening)) continue;
                 const auto along = [&](Pixel l, Pixel rr, int a) {
-                    const double f = (a - r.a0) / width;
+                    const double f = (a - r.a0) * inverse_width;
                     return Pixel{l.u + f * (rr.u - l.u), l.v + f * (rr.v - l.v)};
                 };
                 for (int a = r.a0; a < r.a1; ++a) {
@@ -567,7 +603,9 @@ double point_normal_density(const NormalBoundsTree& tree, const Footprint& footp
                 blur,
                 blur.radius,
                 pruning == Pruning::on,
-                {(pixel.u - tree.origin) / tree.quantum, (pixel.v - tree.origin) / tree.quantum}};
+                {(pixel.u - tree.origin) / tree.quantum, (pixel.v - tree.origin) / tree.quantum},
+                -1,
+                sub_corner_store()};
     const double bin_u = std::floor((pixel.u - tree.origin) / tree.bin_pixels);
     const double bin_v = std::floor((pixel.v - tree.origin) / tree.bin_pixels);
     if (bin_u >= 0.0 && bin_v >= 0.0 && bin_u < tree.bins_across && bin_v < tree.bins_across)
@@ -652,7 +690,7 @@ std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const Norma
     Pixel p00 = c.p00, p10 = c.p10, p01 = c.p01, p11 = c.p11;
     if (n > 1) {
         const CellPatch patch(tree, i, j);
-        const SubCorners corners(patch, c, n);
+        const SubCorners corners(patch, c, n, sub_corner_store());
         p00 = corners.at(a, b), p10 = corners.at(a + 1, b), p01 = corners.at(a, b + 1), p11 = corners.at(a + 1, b + 1);
     }
     const Pixel first = p00, second = chosen % 2 == 0 ? p10 : p11, third = chosen % 2 == 0 ? p11 : p01;
