@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
@@ -182,6 +183,7 @@ Quadrant quadrant(int n, int q) {
 struct CellBounds {
     double u_low, u_high, v_low, v_high;
     std::array<double, 4> strays{};
+    std::array<Pixel, 5> middles{};  // divided: sub-corners (m, 0), (0, m), (m, m), (n, m), (m, n)
 };
 
 CellBounds cell_bounds(const NormalBoundsTree& tree, int i, int j) {
@@ -211,6 +213,8 @@ CellBounds cell_bounds(const NormalBoundsTree& tree, int i, int j) {
                 bounds.strays[q] = std::max({bounds.strays[q], std::abs(p.u - blend.u), std::abs(p.v - blend.v)});
             }
     }
+    const int m = n / 2;
+    bounds.middles = {corners.at(m, 0), corners.at(0, m), corners.at(m, m), corners.at(n, m), corners.at(m, n)};
     return bounds;
 }
 
@@ -243,6 +247,11 @@ std::uint16_t quantised(const NormalBoundsTree& tree, double x, bool up) {
     const double q = (x - tree.origin) / tree.quantum;
     const double rounded = up ? std::ceil(q) + 1.0 : std::floor(q) - 1.0;
     return static_cast<std::uint16_t>(std::clamp(rounded, 0.0, 65535.0));
+}
+
+// The nearest quantum of x (pixels), which lies within the quanta's range (images of normals).
+std::uint16_t nearest_quantum(const NormalBoundsTree& tree, double x) {
+    return static_cast<std::uint16_t>(std::clamp(std::nearbyint((x - tree.origin) / tree.quantum), 0.0, 65535.0));
 }
 
 // Calls visit(i, j, place) for the cells of tile t in row-major order, place = local row · 32 + column.
@@ -311,9 +320,18 @@ void build_bins(NormalBoundsTree& tree, double reach) {
         throw Error("the field is too large for the point query's index of normal bounds");
     tree.offsets.assign(counts.begin(), counts.end());
     tree.cells.resize(counts.back());
-    tree.quadrant_strays.resize(bounds.size());
-    for (std::size_t cell = 0; cell < bounds.size(); ++cell)
-        for (int q = 0; q < 4; ++q) tree.quadrant_strays[cell][q] = quantised(tree, tree.origin + bounds[cell].strays[q], true);
+    tree.divided.resize(bounds.size());
+    parallel_for(bounds.size(), std::size_t{kRowsPerChunk} * grid.cols, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t cell = begin; cell < end; ++cell) {
+            if (tree.subdivision[cell] == 1) continue;
+            DividedCell& divided = tree.divided[cell];
+            for (int q = 0; q < 4; ++q) divided.strays[q] = quantised(tree, tree.origin + bounds[cell].strays[q], true);
+            for (int k = 0; k < 5; ++k) {
+                divided.middles[2 * k] = nearest_quantum(tree, bounds[cell].middles[k].u);
+                divided.middles[2 * k + 1] = nearest_quantum(tree, bounds[cell].middles[k].v);
+            }
+        }
+    });
     std::vector<std::size_t> cursor = std::move(counts);
     per_tile([&](std::size_t t) {
         for_cells_of_tile(tree, static_cast<int>(t), [&](int i, int j, int place) {
@@ -445,16 +463,24 @@ struct Query {
         };
         const CellCorners c = cell_corners(tree, i, j);
         if (n == 1) return pair(c.p00, c.p10, c.p01, c.p11, 0, 0);
-        const CellPatch patch(tree, i, j);
-        const SubCorners corners(patch, c, n, store);
-        const std::array<std::uint16_t, 4>& strays = tree.quadrant_strays[static_cast<std::size_t>(j) * tree.grid.cols + i];
+        const DividedCell& divided = tree.divided[static_cast<std::size_t>(j) * tree.grid.cols + i];
+        // The quadrants' corners (a, b ∈ {0, m, n}): the cell's own, and the stored middles
+        // within half a quantum of their images (the widening below adds a quantum for them).
+        const auto middle = [&](int k) {
+            return Pixel{tree.origin + divided.middles[2 * k] * tree.quantum, tree.origin + divided.middles[2 * k + 1] * tree.quantum};
+        };
+        const Pixel grid[3][3] = {{c.p00, middle(0), c.p10}, {middle(1), middle(2), middle(3)}, {c.p01, middle(4), c.p11}};
+        // The cell's samples are read and its sub-corners evaluated once a quadrant passes.
+        std::optional<CellPatch> patch;
+        std::optional<SubCorners> corners;
         double sum = 0.0;
         for (int q = 0; q < 4; ++q) {
             const Quadrant r = quadrant(n, q);
-            const Pixel q00 = corners.at(r.a0, r.b0), q10 = corners.at(r.a1, r.b0);
-            const Pixel q01 = corners.at(r.a0, r.b1), q11 = corners.at(r.a1, r.b1);
-            const double widening = strays[q] * tree.quantum + reach;
+            const int qa = q & 1, qb = q >> 1;
+            const Pixel q00 = grid[qb][qa], q10 = grid[qb][qa + 1], q01 = grid[qb + 1][qa], q11 = grid[qb + 1][qa + 1];
+            const double widening = (divided.strays[q] + 1) * tree.quantum + reach;
             if (prune && !quad_holds(q00, q10, q01, q11, widening)) continue;
+            if (!corners) patch.emplace(tree, i, j), corners.emplace(*patch, c, n, store);
             const double inverse_width = 1.0 / (r.a1 - r.a0), inverse_height = 1.0 / (r.b1 - r.b0);
             for (int b = r.b0; b < r.b1; ++b) {
                 // The blend along sub-rows b and b + 1: linear in a from the quadrant's left edge to its right.
@@ -472,8 +498,8 @@ struct Query {
                     if (prune && !quad_holds(along(left0, right0, a), along(left0, right0, a + 1), along(left1, right1, a),
                                              along(left1, right1, a + 1), widening))
                         continue;
-                    const Pixel p00 = corners.at(a, b), p10 = corners.at(a + 1, b);
-                    const Pixel p01 = corners.at(a, b + 1), p11 = corners.at(a + 1, b + 1);
+                    const Pixel p00 = corners->at(a, b), p10 = corners->at(a + 1, b);
+                    const Pixel p01 = corners->at(a, b + 1), p11 = corners->at(a + 1, b + 1);
                     if (prune && !quad_holds(p00, p10, p01, p11, reach)) continue;
                     sum += pair(p00, p10, p01, p11, a, b);
                 }
@@ -544,13 +570,7 @@ struct Query {
                     __builtin_prefetch(&tree.samples[cell]);
                     __builtin_prefetch(&tree.samples[static_cast<std::size_t>(above) * tree.grid.cols + i]);
                     const int n = (entry.place & 63) + 1;
-                    if (n > 1 && tree.grid.rows > 2) {
-                        __builtin_prefetch(&tree.quadrant_strays[cell]);
-                        for (int m = -1; m <= 2; ++m) {
-                            const int row = j + m < 0 ? j + m + tree.grid.rows : j + m >= tree.grid.rows ? j + m - tree.grid.rows : j + m;
-                            __builtin_prefetch(tree.surface->sample_row(row) + std::max(0, i - 1));
-                        }
-                    }
+                    if (n > 1) __builtin_prefetch(&tree.divided[cell]);
                     candidates[count++] = {i, j, n};
                     if (count == static_cast<int>(candidates.size())) flush();
                 }
@@ -648,7 +668,7 @@ NormalSampler make_normal_sampler(const NormalBoundsTree& tree, const Footprint&
             const Weight& w = sampler.weight;
             const double far_x = std::max(std::abs(cells.x - w.centre.x), std::abs(cells.x + lattice.step_x - w.centre.x));
             const double far_y = std::max(std::abs(cells.y - w.centre.y), std::abs(cells.y + lattice.step_y - w.centre.y));
-            const bool within = w.shape == FootprintShape::gaussian && far_x * far_x + far_y * far_y < w.cutoff_squared;
+            const bool within = w.shape == FootprintShape::gaussian && !w.elliptical && far_x * far_x + far_y * far_y < w.cutoff_squared;
             sum += within ? separable_cell_weight(cells, n) : cell_weight(cells, n);
             sampler.cumulative[static_cast<std::size_t>(cj * lattice.nx + ci)] = sum;
         }
