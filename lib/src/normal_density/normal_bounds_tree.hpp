@@ -29,7 +29,8 @@
 // pixels instead and restores mass blurred past the rim by a common factor; the query does not
 // (tests/lib/normal_density/normal_bounds_tree_test.cpp measures the difference).
 //
-// Gaussian and whole-field footprints only: a box's lattice follows its edges, not the texels
+// Gaussian (isotropic or elliptical: the weight of covariance Σ_c/2, triangle_model.hpp) and
+// whole-field footprints only: a box's lattice follows its edges, not the texels
 // (point_normal_density throws Error for one). Immutable once built, safe from many threads, no
 // allocation per query.
 #include <array>

@@ -309,28 +309,31 @@ TEST(NormalBoundsTree, SampledNormalsFallInTheImagesPixelsWithTheirMass) {
     // D (2/N)² (both renormalised: the image by its sum, the sampler by the triangles' weight).
     // χ² of 10⁶ draws over the N² pixels on a rough surface with folds, adaptive subdivision;
     // and the density the sampler reports is the point query's D times what its weights sum to.
+    // For a circle and an ellipse (whose cells' weights are summed triangle by triangle).
     const auto surface = std::make_shared<const BicubicInterpolant>(isotropic_field(96));
-    const Footprint footprint = gaussian_at({40.0, 50.0}, 8.0);
     const int n = 32;
     const NormalDensitySettings settings;
-    const std::vector<double> image = normal_density(*surface, footprint, n, settings);
     const NormalBoundsTree tree = make_normal_bounds_tree(surface, settings, n);
-    const NormalSampler sampler = make_normal_sampler(tree, footprint);
-    const testing::DiskChiSquare chi_square{n, 1'000'000};
-    const CounterRng rng(23, 1);
-    const std::vector<long> observed = chi_square.histogram(testing::Grid::omega_o, {0.0, 0.0, 1.0}, [&](long k) -> std::optional<Vec3> {
-        const std::optional<DiskPoint> h = sample_normal(tree, sampler, rng.uniform(2 * k), rng.uniform(2 * k + 1));
-        if (!h) return std::nullopt;
-        return direction_from_disk(h->x, h->y);
-    });
-    std::vector<double> expected(image.size() + 1, 0.0);
-    for (std::size_t k = 0; k < image.size(); ++k) expected[k] = image[k] * disk_pixel_area(n);
-    const double p = chi_square.p_value(observed, expected);
-    RecordProperty("p_value", ::testing::PrintToString(p));
-    EXPECT_GT(p, 0.01);
-    for (int k = 0; k < 50; ++k) {
-        const DiskPoint h{0.3 * std::cos(0.7 * k), 0.3 * std::sin(1.1 * k)};
-        EXPECT_NEAR(sampled_normal_density(tree, sampler, h), point_normal_density(tree, footprint, h), 1e-4 * point_normal_density(tree, footprint, h));
+    for (const Footprint& footprint : {gaussian_at({40.0, 50.0}, 8.0), ellipse_at({40.0, 50.0}, 11.0, 5.0, 0.7)}) {
+        SCOPED_TRACE(is_elliptical(footprint) ? "ellipse" : "circle");
+        const std::vector<double> image = normal_density(*surface, footprint, n, settings);
+        const NormalSampler sampler = make_normal_sampler(tree, footprint);
+        const testing::DiskChiSquare chi_square{n, 1'000'000};
+        const CounterRng rng(23, 1);
+        const std::vector<long> observed = chi_square.histogram(testing::Grid::omega_o, {0.0, 0.0, 1.0}, [&](long k) -> std::optional<Vec3> {
+            const std::optional<DiskPoint> h = sample_normal(tree, sampler, rng.uniform(2 * k), rng.uniform(2 * k + 1));
+            if (!h) return std::nullopt;
+            return direction_from_disk(h->x, h->y);
+        });
+        std::vector<double> expected(image.size() + 1, 0.0);
+        for (std::size_t k = 0; k < image.size(); ++k) expected[k] = image[k] * disk_pixel_area(n);
+        const double p = chi_square.p_value(observed, expected);
+        RecordProperty("p_value", ::testing::PrintToString(p));
+        EXPECT_GT(p, 0.01);
+        for (int k = 0; k < 50; ++k) {
+            const DiskPoint h{0.3 * std::cos(0.7 * k), 0.3 * std::sin(1.1 * k)};
+            EXPECT_NEAR(sampled_normal_density(tree, sampler, h), point_normal_density(tree, footprint, h), 1e-4 * point_normal_density(tree, footprint, h));
+        }
     }
 }
 
