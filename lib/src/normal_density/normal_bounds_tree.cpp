@@ -86,18 +86,30 @@ struct CellPatch {
         half_resolution = 0.5 * tree.resolution;
     }
 
-    Pixel at(int n, int a, int b) const {
-        const CubicWeights* weights = sub_corner_weights(n);
-        const CubicWeights &x = weights[a], &y = weights[b];
-        double dh_du = 0.0, dh_dv = 0.0;
+    // The four sample rows convolved along x at one fraction: values and their x derivatives.
+    struct Column {
+        double along[4], along_du[4];
+    };
+
+    Column column(const CubicWeights& x) const {
+        Column c;
         for (int m = 0; m < 4; ++m) {
             double along_x = 0.0, along_x_du = 0.0;
             for (int k = 0; k < 4; ++k) {
                 along_x += x.w[k] * taps[m][k];
                 along_x_du += x.dw[k] * taps[m][k];
             }
-            dh_du += y.w[m] * along_x_du;
-            dh_dv += y.dw[m] * along_x;
+            c.along[m] = along_x, c.along_du[m] = along_x_du;
+        }
+        return c;
+    }
+
+    // The image of the point at the column's x and the fraction whose weights are y.
+    Pixel at(const Column& c, const CubicWeights& y) const {
+        double dh_du = 0.0, dh_dv = 0.0;
+        for (int m = 0; m < 4; ++m) {
+            dh_du += y.w[m] * c.along_du[m];
+            dh_dv += y.dw[m] * c.along[m];
         }
         return normal_pixel({0.0, dh_du * inverse_dx, dh_dv * inverse_dy}, half_resolution);
     }
@@ -122,6 +134,10 @@ struct SubCornerStore {
     std::vector<Pixel> images;
     std::vector<std::uint32_t> stamps;
     std::uint32_t generation = 0;
+    // Per sub-column a of the cell in use (stamped alike): its rows convolved along x, shared by
+    // the sub-corners of that column.
+    std::vector<CellPatch::Column> columns = std::vector<CellPatch::Column>(kMaxRefinement + 1);
+    std::vector<std::uint32_t> column_stamps = std::vector<std::uint32_t>(kMaxRefinement + 1, 0);
 };
 
 // This thread's store: looked up once per query (a thread_local access in a shared library is a call).
@@ -137,15 +153,22 @@ class SubCorners {
 public:
     SubCorners(const CellPatch& patch, const CellCorners& corners, int n, SubCornerStore& store)
         : patch_(patch), corners_(corners), n_(n) {
-        if (++store.generation == 0) std::fill(store.stamps.begin(), store.stamps.end(), 0), store.generation = 1;
+        if (++store.generation == 0) {
+            std::fill(store.stamps.begin(), store.stamps.end(), 0), store.generation = 1;
+            std::fill(store.column_stamps.begin(), store.column_stamps.end(), 0);
+        }
         images_ = store.images.data(), stamps_ = store.stamps.data(), generation_ = store.generation;
+        columns_ = store.columns.data(), column_stamps_ = store.column_stamps.data(), weights_ = sub_corner_weights(n);
     }
 
     Pixel at(int a, int b) const {
         if ((a == 0 || a == n_) && (b == 0 || b == n_))
             return a == 0 ? (b == 0 ? corners_.p00 : corners_.p01) : (b == 0 ? corners_.p10 : corners_.p11);
         const std::size_t k = static_cast<std::size_t>(b) * (n_ + 1) + a;
-        if (stamps_[k] != generation_) images_[k] = patch_.at(n_, a, b), stamps_[k] = generation_;
+        if (stamps_[k] != generation_) {
+            if (column_stamps_[a] != generation_) columns_[a] = patch_.column(weights_[a]), column_stamps_[a] = generation_;
+            images_[k] = patch_.at(columns_[a], weights_[b]), stamps_[k] = generation_;
+        }
         return images_[k];
     }
 
@@ -156,6 +179,9 @@ private:
     Pixel* images_;
     std::uint32_t* stamps_;
     std::uint32_t generation_;
+    CellPatch::Column* columns_;
+    std::uint32_t* column_stamps_;
+    const CubicWeights* weights_;
 };
 
 // Quadrant q (bit 0: right, bit 1: top) of a divided cell: sub-corners [a0, a1] × [b0, b1],
