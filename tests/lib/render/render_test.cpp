@@ -464,6 +464,7 @@ TEST(Render, AGeometricPixelIsTheFieldsBsdfAtItsCellsFootprint) {
     scene.camera.vertical_fov_degrees = 0.4;  // 50 um pixels about the patch's centre, the highlight
     const RenderSettings settings{4, 0};
     const RenderImage image = render(scene, settings);
+    EXPECT_NE(image.metadata.at("render.footprint").find("elliptical Gaussian"), std::string::npos);
     LobeQuery query = scene.query;
     const BsdfField bsdfs = make_bsdf_field("geometric", query);
     int lit = 0;
