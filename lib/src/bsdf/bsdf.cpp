@@ -230,18 +230,22 @@ struct BsdfField::State {
     std::string method;
     LobeQuery query;  // planned; its footprint replaced by each `at`
     PointAnswersAt at;
+    bool ellipses = false;
 };
 
 BsdfField::BsdfField(std::shared_ptr<const State> state) : state_(std::move(state)) {}
 
 const std::string& BsdfField::method() const { return state_->method; }
 const std::vector<double>& BsdfField::wavelengths_um() const { return state_->query.wavelengths_um; }
+bool BsdfField::answers_ellipses() const { return state_->ellipses; }
 
 Bsdf BsdfField::at(const Footprint& footprint) const {
     auto state = std::make_shared<Bsdf::State>();
     state->method = state_->method;
     state->query = state_->query;
     validate(footprint);
+    if (is_elliptical(footprint) && !state_->ellipses)
+        throw Error(state_->method + " with these settings takes isotropic Gaussian footprints, not an ellipse");
     state->query.footprint = footprint;
     state->point = state_->at(footprint);
     return Bsdf(std::move(state));
@@ -265,6 +269,13 @@ BsdfField make_bsdf_field(const std::string& method, const LobeQuery& query) {
                     (names.empty() ? std::string("none") : join(names)));
     }
     state->at = prefixed(method, [&] { return entry.point_field(state->query); });
+    if (entry.info.elliptical_footprints) {
+        // Whether these settings answer by the point query (else by images, which take no ellipse).
+        Footprint probe = state->query.footprint;
+        probe.shape = FootprintShape::gaussian;
+        probe.sigma_minor_um = 0.5 * probe.sigma_um;
+        state->ellipses = static_cast<bool>(state->at(probe).eval);
+    }
     return BsdfField(std::move(state));
 }
 

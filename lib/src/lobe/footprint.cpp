@@ -28,6 +28,15 @@ void validate(const Footprint& footprint) {
                     shortest_text(footprint.centre_um.x) + ", " + shortest_text(footprint.centre_um.y) + ") um");
     if (footprint.shape == FootprintShape::gaussian && !(footprint.sigma_um > 0.0 && footprint.sigma_um <= 1e4))
         throw Error("coherence sigma must be between 0 and 10 mm, got " + shortest_text(footprint.sigma_um) + " um");
+    if (footprint.sigma_minor_um != 0.0 || footprint.axis_radians != 0.0) {
+        if (footprint.shape != FootprintShape::gaussian)
+            throw Error("only a Gaussian footprint can be elliptical (sigma_minor, axis)");
+        if (!(footprint.sigma_minor_um > 0.0 && footprint.sigma_minor_um <= footprint.sigma_um))
+            throw Error("an elliptical footprint's minor sigma must be positive and at most sigma_c (" +
+                        shortest_text(footprint.sigma_um) + " um), got " + shortest_text(footprint.sigma_minor_um) + " um");
+        if (!std::isfinite(footprint.axis_radians))
+            throw Error("an elliptical footprint's axis must be a finite angle, got " + shortest_text(footprint.axis_radians));
+    }
     if (footprint.shape == FootprintShape::box)
         for (const double side : {footprint.size_um, box_height_um(footprint)})
             if (!(side > 0.0 && side <= 1e5))

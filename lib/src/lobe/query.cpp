@@ -28,6 +28,9 @@ void validate(const LobeQuery& query) {
         if (!(lambda >= 0.1 && lambda <= 20.0))
             throw Error("wavelength " + shortest_text(lambda) + " um is outside 0.1-20 um");
     validate(query.footprint);
+    if (is_elliptical(query.footprint))
+        throw Error("an elliptical footprint is answered only by a point query that takes one (a geometric render's "
+                    "pixel footprint, BsdfField::at), not by a lobe query");
     // The image alone holds N² floats per wavelength: refused here, before any method allocates.
     const auto image_gb = [&](double n) { return shortest_text(std::ceil(4.0 * n * n * query.wavelengths_um.size() / 1e8) / 10); };
     if (query.resolution < 4 || query.resolution > 8192)

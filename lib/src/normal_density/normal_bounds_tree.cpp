@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
@@ -48,6 +49,18 @@ void image_samples(const BicubicInterpolant& surface, const NormalDensitySetting
     });
 }
 
+// The Catmull–Rom weights at a/n for a = 0 … n, for every n up to kMaxRefinement, made once:
+// each is catmull_rom(a/n) itself, so a sub-corner's image is what it was without the table.
+const CubicWeights* sub_corner_weights(int n) {
+    static const std::vector<CubicWeights> table = [] {
+        std::vector<CubicWeights> weights;
+        for (int m = 1; m <= kMaxRefinement; ++m)
+            for (int a = 0; a <= m; ++a) weights.push_back(catmull_rom(static_cast<double>(a) / m));
+        return weights;
+    }();
+    return table.data() + static_cast<std::size_t>(n - 1) * (n + 2) / 2;  // Σ_{m<n} (m + 1) entries before n
+}
+
 // The interpolant on texel cell (i, j) (BicubicInterpolant::evaluate, Catmull–Rom along each
 // axis) with its 4 × 4 samples read once: the normal images of the cell's sub-corners at
 // (a/n, b/n), as the image evaluates them up to rounding (the image's grid steps from the cell's
@@ -73,17 +86,30 @@ struct CellPatch {
         half_resolution = 0.5 * tree.resolution;
     }
 
-    Pixel at(int n, int a, int b) const {
-        const CubicWeights x = catmull_rom(static_cast<double>(a) / n), y = catmull_rom(static_cast<double>(b) / n);
-        double dh_du = 0.0, dh_dv = 0.0;
+    // The four sample rows convolved along x at one fraction: values and their x derivatives.
+    struct Column {
+        double along[4], along_du[4];
+    };
+
+    Column column(const CubicWeights& x) const {
+        Column c;
         for (int m = 0; m < 4; ++m) {
             double along_x = 0.0, along_x_du = 0.0;
             for (int k = 0; k < 4; ++k) {
                 along_x += x.w[k] * taps[m][k];
                 along_x_du += x.dw[k] * taps[m][k];
             }
-            dh_du += y.w[m] * along_x_du;
-            dh_dv += y.dw[m] * along_x;
+            c.along[m] = along_x, c.along_du[m] = along_x_du;
+        }
+        return c;
+    }
+
+    // The image of the point at the column's x and the fraction whose weights are y.
+    Pixel at(const Column& c, const CubicWeights& y) const {
+        double dh_du = 0.0, dh_dv = 0.0;
+        for (int m = 0; m < 4; ++m) {
+            dh_du += y.w[m] * c.along_du[m];
+            dh_dv += y.dw[m] * c.along[m];
         }
         return normal_pixel({0.0, dh_du * inverse_dx, dh_dv * inverse_dy}, half_resolution);
     }
@@ -102,26 +128,47 @@ CellCorners cell_corners(const NormalBoundsTree& tree, int i, int j) {
     return {tree.samples[row + i], tree.samples[row + right], tree.samples[above + i], tree.samples[above + right]};
 }
 
+// Storage for a divided cell's sub-corner images, one per thread, sized for the largest n
+// (kMaxRefinement) once: stamps tell which images belong to the cell in use.
+struct SubCornerStore {
+    std::vector<Pixel> images;
+    std::vector<std::uint32_t> stamps;
+    std::uint32_t generation = 0;
+    // Per sub-column a of the cell in use (stamped alike): its rows convolved along x, shared by
+    // the sub-corners of that column.
+    std::vector<CellPatch::Column> columns = std::vector<CellPatch::Column>(kMaxRefinement + 1);
+    std::vector<std::uint32_t> column_stamps = std::vector<std::uint32_t>(kMaxRefinement + 1, 0);
+};
+
+// This thread's store: looked up once per query (a thread_local access in a shared library is a call).
+SubCornerStore& sub_corner_store() {
+    thread_local SubCornerStore store{std::vector<Pixel>((kMaxRefinement + 1) * (kMaxRefinement + 1)),
+                                      std::vector<std::uint32_t>((kMaxRefinement + 1) * (kMaxRefinement + 1), 0), 0};
+    return store;
+}
+
 // The images of a divided cell's sub-corners: its four corners are the samples' images (as an
-// undivided neighbour's), the others evaluated once per use of the cell, on first need; the
-// storage is kept per thread (no allocation once a thread has met the largest n).
+// undivided neighbour's), the others evaluated once per use of the cell, on first need.
 class SubCorners {
 public:
-    SubCorners(const CellPatch& patch, const CellCorners& corners, int n) : patch_(patch), corners_(corners), n_(n) {
-        thread_local std::vector<Pixel> images;
-        thread_local std::vector<std::uint32_t> stamps;
-        thread_local std::uint32_t generation = 0;
-        const std::size_t count = static_cast<std::size_t>(n + 1) * (n + 1);
-        if (stamps.size() < count) stamps.resize(count, 0), images.resize(count);
-        if (++generation == 0) std::fill(stamps.begin(), stamps.end(), 0), generation = 1;
-        images_ = images.data(), stamps_ = stamps.data(), generation_ = generation;
+    SubCorners(const CellPatch& patch, const CellCorners& corners, int n, SubCornerStore& store)
+        : patch_(patch), corners_(corners), n_(n) {
+        if (++store.generation == 0) {
+            std::fill(store.stamps.begin(), store.stamps.end(), 0), store.generation = 1;
+            std::fill(store.column_stamps.begin(), store.column_stamps.end(), 0);
+        }
+        images_ = store.images.data(), stamps_ = store.stamps.data(), generation_ = store.generation;
+        columns_ = store.columns.data(), column_stamps_ = store.column_stamps.data(), weights_ = sub_corner_weights(n);
     }
 
     Pixel at(int a, int b) const {
         if ((a == 0 || a == n_) && (b == 0 || b == n_))
             return a == 0 ? (b == 0 ? corners_.p00 : corners_.p01) : (b == 0 ? corners_.p10 : corners_.p11);
         const std::size_t k = static_cast<std::size_t>(b) * (n_ + 1) + a;
-        if (stamps_[k] != generation_) images_[k] = patch_.at(n_, a, b), stamps_[k] = generation_;
+        if (stamps_[k] != generation_) {
+            if (column_stamps_[a] != generation_) columns_[a] = patch_.column(weights_[a]), column_stamps_[a] = generation_;
+            images_[k] = patch_.at(columns_[a], weights_[b]), stamps_[k] = generation_;
+        }
         return images_[k];
     }
 
@@ -132,6 +179,9 @@ private:
     Pixel* images_;
     std::uint32_t* stamps_;
     std::uint32_t generation_;
+    CellPatch::Column* columns_;
+    std::uint32_t* column_stamps_;
+    const CubicWeights* weights_;
 };
 
 // Quadrant q (bit 0: right, bit 1: top) of a divided cell: sub-corners [a0, a1] × [b0, b1],
@@ -159,6 +209,7 @@ Quadrant quadrant(int n, int q) {
 struct CellBounds {
     double u_low, u_high, v_low, v_high;
     std::array<double, 4> strays{};
+    std::array<Pixel, 5> middles{};  // divided: sub-corners (m, 0), (0, m), (m, m), (n, m), (m, n)
 };
 
 CellBounds cell_bounds(const NormalBoundsTree& tree, int i, int j) {
@@ -174,7 +225,7 @@ CellBounds cell_bounds(const NormalBoundsTree& tree, int i, int j) {
         return bounds;
     }
     const CellPatch patch(tree, i, j);
-    const SubCorners corners(patch, c, n);
+    const SubCorners corners(patch, c, n, sub_corner_store());
     for (int q = 0; q < 4; ++q) {
         const Quadrant r = quadrant(n, q);
         const Pixel p00 = corners.at(r.a0, r.b0), p10 = corners.at(r.a1, r.b0);
@@ -188,6 +239,8 @@ CellBounds cell_bounds(const NormalBoundsTree& tree, int i, int j) {
                 bounds.strays[q] = std::max({bounds.strays[q], std::abs(p.u - blend.u), std::abs(p.v - blend.v)});
             }
     }
+    const int m = n / 2;
+    bounds.middles = {corners.at(m, 0), corners.at(0, m), corners.at(m, m), corners.at(n, m), corners.at(m, n)};
     return bounds;
 }
 
@@ -220,6 +273,11 @@ std::uint16_t quantised(const NormalBoundsTree& tree, double x, bool up) {
     const double q = (x - tree.origin) / tree.quantum;
     const double rounded = up ? std::ceil(q) + 1.0 : std::floor(q) - 1.0;
     return static_cast<std::uint16_t>(std::clamp(rounded, 0.0, 65535.0));
+}
+
+// The nearest quantum of x (pixels), which lies within the quanta's range (images of normals).
+std::uint16_t nearest_quantum(const NormalBoundsTree& tree, double x) {
+    return static_cast<std::uint16_t>(std::clamp(std::nearbyint((x - tree.origin) / tree.quantum), 0.0, 65535.0));
 }
 
 // Calls visit(i, j, place) for the cells of tile t in row-major order, place = local row · 32 + column.
@@ -271,20 +329,37 @@ void build_bins(NormalBoundsTree& tree, double reach) {
             for (int bu = r.bu0; bu <= r.bu1; ++bu)
                 visit(static_cast<std::size_t>(tree.bin_rows[static_cast<std::size_t>(bv) * tree.bins_across + bu]));
     };
-    for (std::size_t t = 0; t < tiles; ++t)
+    // Tile t writes only its own column (t + 1, then t) of counts and cursors: the tiles run in
+    // parallel, and each tile's entries keep their row-major order whatever the thread count.
+    const auto per_tile = [&](const auto& body) {
+        parallel_for(tiles, 1, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t t = begin; t < end; ++t) body(t);
+        });
+    };
+    per_tile([&](std::size_t t) {
         for_cells_of_tile(tree, static_cast<int>(t), [&](int i, int j, int) {
             for_bins(bounds[static_cast<std::size_t>(j) * grid.cols + i], [&](std::size_t row) { ++counts[row * stride + t + 1]; });
         });
+    });
     for (std::size_t k = 1; k < counts.size(); ++k) counts[k] += counts[k - 1];
     if (counts.back() > std::numeric_limits<std::uint32_t>::max())
         throw Error("the field is too large for the point query's index of normal bounds");
     tree.offsets.assign(counts.begin(), counts.end());
     tree.cells.resize(counts.back());
-    tree.quadrant_strays.resize(bounds.size());
-    for (std::size_t cell = 0; cell < bounds.size(); ++cell)
-        for (int q = 0; q < 4; ++q) tree.quadrant_strays[cell][q] = quantised(tree, tree.origin + bounds[cell].strays[q], true);
+    tree.divided.resize(bounds.size());
+    parallel_for(bounds.size(), std::size_t{kRowsPerChunk} * grid.cols, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t cell = begin; cell < end; ++cell) {
+            if (tree.subdivision[cell] == 1) continue;
+            DividedCell& divided = tree.divided[cell];
+            for (int q = 0; q < 4; ++q) divided.strays[q] = quantised(tree, tree.origin + bounds[cell].strays[q], true);
+            for (int k = 0; k < 5; ++k) {
+                divided.middles[2 * k] = nearest_quantum(tree, bounds[cell].middles[k].u);
+                divided.middles[2 * k + 1] = nearest_quantum(tree, bounds[cell].middles[k].v);
+            }
+        }
+    });
     std::vector<std::size_t> cursor = std::move(counts);
-    for (std::size_t t = 0; t < tiles; ++t)
+    per_tile([&](std::size_t t) {
         for_cells_of_tile(tree, static_cast<int>(t), [&](int i, int j, int place) {
             const std::size_t cell = static_cast<std::size_t>(j) * grid.cols + i;
             const CellBounds& b = bounds[cell];
@@ -294,6 +369,7 @@ void build_bins(NormalBoundsTree& tree, double reach) {
             entry.v_low = quantised(tree, b.v_low - reach, false), entry.v_high = quantised(tree, b.v_high + reach, true);
             for_bins(b, [&](std::size_t row) { tree.cells[cursor[row * stride + t]++] = entry; });
         });
+    });
 }
 
 // ---- The query ------------------------------------------------------------------------------
@@ -391,6 +467,7 @@ struct Query {
     bool prune = true;
     Pixel normal_quanta;
     std::int64_t bin_row = -1;
+    SubCornerStore& store;
 
     // The lattice's x of the unwrapped cell I (as the image computes it, from its origin).
     double cell_x(long long cell) const { return lattice.x0 + static_cast<double>(cell - first_x) * lattice.step_x; }
@@ -412,32 +489,43 @@ struct Query {
         };
         const CellCorners c = cell_corners(tree, i, j);
         if (n == 1) return pair(c.p00, c.p10, c.p01, c.p11, 0, 0);
-        const CellPatch patch(tree, i, j);
-        const SubCorners corners(patch, c, n);
-        const std::array<std::uint16_t, 4>& strays = tree.quadrant_strays[static_cast<std::size_t>(j) * tree.grid.cols + i];
+        const DividedCell& divided = tree.divided[static_cast<std::size_t>(j) * tree.grid.cols + i];
+        // The quadrants' corners (a, b ∈ {0, m, n}): the cell's own, and the stored middles
+        // within half a quantum of their images (the widening below adds a quantum for them).
+        const auto middle = [&](int k) {
+            return Pixel{tree.origin + divided.middles[2 * k] * tree.quantum, tree.origin + divided.middles[2 * k + 1] * tree.quantum};
+        };
+        const Pixel grid[3][3] = {{c.p00, middle(0), c.p10}, {middle(1), middle(2), middle(3)}, {c.p01, middle(4), c.p11}};
+        // The cell's samples are read and its sub-corners evaluated once a quadrant passes.
+        std::optional<CellPatch> patch;
+        std::optional<SubCorners> corners;
         double sum = 0.0;
         for (int q = 0; q < 4; ++q) {
             const Quadrant r = quadrant(n, q);
-            const Pixel q00 = corners.at(r.a0, r.b0), q10 = corners.at(r.a1, r.b0);
-            const Pixel q01 = corners.at(r.a0, r.b1), q11 = corners.at(r.a1, r.b1);
-            const double widening = strays[q] * tree.quantum + reach;
+            const int qa = q & 1, qb = q >> 1;
+            const Pixel q00 = grid[qb][qa], q10 = grid[qb][qa + 1], q01 = grid[qb + 1][qa], q11 = grid[qb + 1][qa + 1];
+            const double widening = (divided.strays[q] + 1) * tree.quantum + reach;
             if (prune && !quad_holds(q00, q10, q01, q11, widening)) continue;
-            const double width = r.a1 - r.a0, height = r.b1 - r.b0;
+            if (!corners) patch.emplace(tree, i, j), corners.emplace(*patch, c, n, store);
+            const double inverse_width = 1.0 / (r.a1 - r.a0), inverse_height = 1.0 / (r.b1 - r.b0);
             for (int b = r.b0; b < r.b1; ++b) {
                 // The blend along sub-rows b and b + 1: linear in a from the quadrant's left edge to its right.
-                const double t0 = (b - r.b0) / height, t1 = (b + 1 - r.b0) / height;
+                const double t0 = (b - r.b0) * inverse_height, t1 = (b + 1 - r.b0) * inverse_height;
                 const Pixel left0 = bilinear(q00, q10, q01, q11, 0.0, t0), right0 = bilinear(q00, q10, q01, q11, 1.0, t0);
                 const Pixel left1 = bilinear(q00, q10, q01, q11, 0.0, t1), right1 = bilinear(q00, q10, q01, q11, 1.0, t1);
+                // The row's sub-cells' blended corners lie on the segments left0–right0 and
+                // left1–right1, so within their ends' box: a row whose widened box misses h is skipped whole.
+                if (prune && !quad_holds(left0, right0, left1, right1, widening)) continue;
                 const auto along = [&](Pixel l, Pixel rr, int a) {
-                    const double f = (a - r.a0) / width;
+                    const double f = (a - r.a0) * inverse_width;
                     return Pixel{l.u + f * (rr.u - l.u), l.v + f * (rr.v - l.v)};
                 };
                 for (int a = r.a0; a < r.a1; ++a) {
                     if (prune && !quad_holds(along(left0, right0, a), along(left0, right0, a + 1), along(left1, right1, a),
                                              along(left1, right1, a + 1), widening))
                         continue;
-                    const Pixel p00 = corners.at(a, b), p10 = corners.at(a + 1, b);
-                    const Pixel p01 = corners.at(a, b + 1), p11 = corners.at(a + 1, b + 1);
+                    const Pixel p00 = corners->at(a, b), p10 = corners->at(a + 1, b);
+                    const Pixel p01 = corners->at(a, b + 1), p11 = corners->at(a + 1, b + 1);
                     if (prune && !quad_holds(p00, p10, p01, p11, reach)) continue;
                     sum += pair(p00, p10, p01, p11, a, b);
                 }
@@ -508,13 +596,7 @@ struct Query {
                     __builtin_prefetch(&tree.samples[cell]);
                     __builtin_prefetch(&tree.samples[static_cast<std::size_t>(above) * tree.grid.cols + i]);
                     const int n = (entry.place & 63) + 1;
-                    if (n > 1 && tree.grid.rows > 2) {
-                        __builtin_prefetch(&tree.quadrant_strays[cell]);
-                        for (int m = -1; m <= 2; ++m) {
-                            const int row = j + m < 0 ? j + m + tree.grid.rows : j + m >= tree.grid.rows ? j + m - tree.grid.rows : j + m;
-                            __builtin_prefetch(tree.surface->sample_row(row) + std::max(0, i - 1));
-                        }
-                    }
+                    if (n > 1) __builtin_prefetch(&tree.divided[cell]);
                     candidates[count++] = {i, j, n};
                     if (count == static_cast<int>(candidates.size())) flush();
                 }
@@ -567,7 +649,9 @@ double point_normal_density(const NormalBoundsTree& tree, const Footprint& footp
                 blur,
                 blur.radius,
                 pruning == Pruning::on,
-                {(pixel.u - tree.origin) / tree.quantum, (pixel.v - tree.origin) / tree.quantum}};
+                {(pixel.u - tree.origin) / tree.quantum, (pixel.v - tree.origin) / tree.quantum},
+                -1,
+                sub_corner_store()};
     const double bin_u = std::floor((pixel.u - tree.origin) / tree.bin_pixels);
     const double bin_v = std::floor((pixel.v - tree.origin) / tree.bin_pixels);
     if (bin_u >= 0.0 && bin_v >= 0.0 && bin_u < tree.bins_across && bin_v < tree.bins_across)
@@ -610,7 +694,7 @@ NormalSampler make_normal_sampler(const NormalBoundsTree& tree, const Footprint&
             const Weight& w = sampler.weight;
             const double far_x = std::max(std::abs(cells.x - w.centre.x), std::abs(cells.x + lattice.step_x - w.centre.x));
             const double far_y = std::max(std::abs(cells.y - w.centre.y), std::abs(cells.y + lattice.step_y - w.centre.y));
-            const bool within = w.shape == FootprintShape::gaussian && far_x * far_x + far_y * far_y < w.cutoff_squared;
+            const bool within = w.shape == FootprintShape::gaussian && !w.elliptical && far_x * far_x + far_y * far_y < w.cutoff_squared;
             sum += within ? separable_cell_weight(cells, n) : cell_weight(cells, n);
             sampler.cumulative[static_cast<std::size_t>(cj * lattice.nx + ci)] = sum;
         }
@@ -652,7 +736,7 @@ std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const Norma
     Pixel p00 = c.p00, p10 = c.p10, p01 = c.p01, p11 = c.p11;
     if (n > 1) {
         const CellPatch patch(tree, i, j);
-        const SubCorners corners(patch, c, n);
+        const SubCorners corners(patch, c, n, sub_corner_store());
         p00 = corners.at(a, b), p10 = corners.at(a + 1, b), p01 = corners.at(a, b + 1), p11 = corners.at(a + 1, b + 1);
     }
     const Pixel first = p00, second = chosen % 2 == 0 ? p10 : p11, third = chosen % 2 == 0 ? p11 : p01;

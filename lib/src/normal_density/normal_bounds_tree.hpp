@@ -13,10 +13,10 @@
 // bin: a few contiguous cache lines, and independent misses after it (no chain of node visits).
 // A divided cell's (n + 1)² sub-corners are not stored (a gigabyte per 1024² of field at the
 // defaults); per quadrant (split at ⌊n/2⌋) the cell keeps its stray, the largest distance of a
-// sub-corner's image from the bilinear blend of the quadrant's corner images, so that a query
-// evaluates the quadrants' corners and then only the sub-corners of sub-cells whose blended box,
-// widened by the stray, holds h, from the cell's 4 × 4 samples read once (the image's values up
-// to rounding).
+// sub-corner's image from the bilinear blend of the quadrant's corner images, and the quadrants'
+// corner images (quantised), so that a query evaluates only the sub-corners of sub-cells whose
+// blended box, widened by the stray, holds h, from the cell's 4 × 4 samples read once when a
+// quadrant passes (the image's values up to rounding).
 //   D(h) = Σ over triangles whose image holds h of weight(centroid) · area / image area,
 // divided by the footprint weight of the truncated domain (1 − e^{−K²/2} for a Gaussian), so
 // that ∫ D dA_disk = 1 as the image's Σ D (2/N)² = 1 (the image also absorbs the centroid rule's
@@ -29,7 +29,8 @@
 // pixels instead and restores mass blurred past the rim by a common factor; the query does not
 // (tests/lib/normal_density/normal_bounds_tree_test.cpp measures the difference).
 //
-// Gaussian and whole-field footprints only: a box's lattice follows its edges, not the texels
+// Gaussian (isotropic or elliptical: the weight of covariance Σ_c/2, triangle_model.hpp) and
+// whole-field footprints only: a box's lattice follows its edges, not the texels
 // (point_normal_density throws Error for one). Immutable once built, safe from many threads, no
 // allocation per query.
 #include <array>
@@ -55,6 +56,16 @@ struct BinnedCell {
     std::uint16_t u_low = 0, u_high = 0, v_low = 0, v_high = 0;
 };
 
+// A divided cell's quadrants (split at m = ⌊n/2⌋), in quanta of NormalBoundsTree::quantum pixels
+// from NormalBoundsTree::origin: their strays, rounded up, and the images of the five sub-corners
+// the quadrants add to the cell's corners, (m, 0), (0, m), (m, m), (n, m), (m, n) as (u, v) pairs,
+// rounded to the nearest quantum: a query tests the quadrants and their sub-cells' blended boxes
+// with these, widened by a quantum more, and evaluates only the sub-corners of sub-cells that pass.
+struct DividedCell {
+    std::array<std::uint16_t, 4> strays{};
+    std::array<std::uint16_t, 10> middles{};
+};
+
 struct NormalBoundsTree {
     static constexpr int kTileCells = 32;  // tiles of kTileCells × kTileCells texel cells
     TexelGrid grid;
@@ -64,8 +75,8 @@ struct NormalBoundsTree {
     std::vector<Pixel> samples;
     // Per texel cell (i, j) between samples (i, j) and (i + 1, j + 1), at j·cols + i: its subdivision n.
     std::vector<std::uint8_t> subdivision;
-    // Per cell as `subdivision`: a divided cell's quadrants' strays, in quanta (below), rounded up.
-    std::vector<std::array<std::uint16_t, 4>> quadrant_strays;
+    // Per cell as `subdivision`: a divided cell's quadrants.
+    std::vector<DividedCell> divided;
     std::shared_ptr<const BicubicInterpolant> surface;
     // Tiles: tile (tx, ty) at ty·tile_cols + tx holds cells [32 tx, 32 tx + 32) × [32 ty, …).
     int tile_cols = 0, tile_rows = 0;

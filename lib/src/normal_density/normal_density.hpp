@@ -42,7 +42,8 @@ constexpr int kMaxRefinement = 64;
 
 // The weight of surface element ds (conventions.md "Coherence / footprint"): a Gaussian
 // footprint of σ_c weighs by |w(s − x_c)|²/A_c, a normalised Gaussian of standard deviation
-// σ_c/√2; a box by 1/side² inside it; `whole` by 1/(W·H) over one period of the field.
+// σ_c/√2 (an ellipse: along its major axis; triangle_model.hpp weighs by its covariance); a box
+// by 1/side² inside it; `whole` by 1/(W·H) over one period of the field.
 double footprint_weight_sigma_um(const Footprint& footprint);
 
 // Throws Error naming a bad resolution, refinement, tolerance or roughness.

@@ -42,10 +42,21 @@ struct Weight {
     Point2 centre;
     double inverse_two_variance = 0.0;  // Gaussian: 1/(2σ_w²)
     double cutoff_squared = 0.0;        // Gaussian: (kTruncationSigmas·σ_w)²
-    double scale = 0.0;                 // normalisation: 1/(2πσ_w²), 1/side², 1/(W·H)
+    double scale = 0.0;                 // normalisation: 1/(2πσ_w²) (ellipse: 1/(2π√det Σ_w)), 1/side², 1/(W·H)
+    // An elliptical Gaussian (is_elliptical): the exponent ½ dᵀ Σ_w⁻¹ d = q_xx dx² + 2 q_xy dx dy +
+    // q_yy dy², zero past K²/2 (d at K Mahalanobis units); cutoff_squared is then the circle of the
+    // major axis, which holds that ellipse (for tests that a region lies beyond it).
+    bool elliptical = false;
+    double q_xx = 0.0, q_xy = 0.0, q_yy = 0.0;
+    double exponent_cutoff = 0.0;
 
     [[gnu::always_inline]] double operator()(double x, double y) const {
         if (shape != FootprintShape::gaussian) return scale;
+        if (elliptical) {
+            const double dx = x - centre.x, dy = y - centre.y;
+            const double exponent = q_xx * dx * dx + 2.0 * q_xy * dx * dy + q_yy * dy * dy;
+            return exponent > exponent_cutoff ? 0.0 : scale * std::exp(-exponent);
+        }
         const double r2 = (x - centre.x) * (x - centre.x) + (y - centre.y) * (y - centre.y);
         return r2 > cutoff_squared ? 0.0 : scale * std::exp(-r2 * inverse_two_variance);
     }
@@ -58,6 +69,19 @@ inline void aligned_axis(double from, double to, double texel, double step, doub
     const double last = std::ceil((to - 0.5 * texel) / step);
     origin = 0.5 * texel + first * step;
     count = static_cast<long long>(last - first);
+}
+
+// The covariance Σ_w = Σ_c/2 of an elliptical footprint's weight |w|²/A_c (footprint.hpp,
+// conventions.md "Coherence / footprint"): R diag(σ_c², σ_minor²) Rᵀ / 2, R the rotation by the axis.
+struct WeightCovariance {
+    double xx = 0.0, xy = 0.0, yy = 0.0;
+};
+
+inline WeightCovariance weight_covariance(const Footprint& footprint) {
+    const double c = std::cos(footprint.axis_radians), s = std::sin(footprint.axis_radians);
+    const double major = 0.5 * footprint.sigma_um * footprint.sigma_um;
+    const double minor = 0.5 * footprint.sigma_minor_um * footprint.sigma_minor_um;
+    return {c * c * major + s * s * minor, c * s * (major - minor), s * s * major + c * c * minor};
 }
 
 // The base lattice: one cell per texel, aligned with the samples (a box: with its edges, so
@@ -80,6 +104,12 @@ inline Lattice lattice_for(const TexelGrid& surface, const Footprint& footprint)
         lattice.step_y = height / static_cast<double>(lattice.ny);
         lattice.x0 = footprint.centre_um.x - 0.5 * width;
         lattice.y0 = footprint.centre_um.y - 0.5 * height;
+    } else if (is_elliptical(footprint)) {
+        // The truncated ellipse dᵀ Σ_w⁻¹ d ≤ K² reaches K √(Σ_w)_xx along x and K √(Σ_w)_yy along y.
+        const WeightCovariance sigma = weight_covariance(footprint);
+        const double reach_x = kTruncationSigmas * std::sqrt(sigma.xx), reach_y = kTruncationSigmas * std::sqrt(sigma.yy);
+        aligned_axis(footprint.centre_um.x - reach_x, footprint.centre_um.x + reach_x, dx, dx, lattice.x0, lattice.nx);
+        aligned_axis(footprint.centre_um.y - reach_y, footprint.centre_um.y + reach_y, dy, dy, lattice.y0, lattice.ny);
     } else {
         const double reach = kTruncationSigmas * footprint_weight_sigma_um(footprint);
         aligned_axis(footprint.centre_um.x - reach, footprint.centre_um.x + reach, dx, dx, lattice.x0, lattice.nx);
@@ -96,6 +126,19 @@ inline Weight weight_for(const TexelGrid& surface, const Footprint& footprint) {
         weight.scale = 1.0 / (surface.cols * surface.dx_um * surface.rows * surface.dy_um);
     } else if (footprint.shape == FootprintShape::box) {
         weight.scale = 1.0 / (box_width_um(footprint) * box_height_um(footprint));
+    } else if (is_elliptical(footprint)) {
+        // Σ_w⁻¹/2 = R diag(1/σ_c², 1/σ_minor²) Rᵀ; √det Σ_w = σ_c σ_minor / 2.
+        const double c = std::cos(footprint.axis_radians), s = std::sin(footprint.axis_radians);
+        const double major = 1.0 / (footprint.sigma_um * footprint.sigma_um);
+        const double minor = 1.0 / (footprint.sigma_minor_um * footprint.sigma_minor_um);
+        weight.elliptical = true;
+        weight.q_xx = c * c * major + s * s * minor;
+        weight.q_xy = c * s * (major - minor);
+        weight.q_yy = s * s * major + c * c * minor;
+        weight.exponent_cutoff = 0.5 * kTruncationSigmas * kTruncationSigmas;
+        const double major_sigma = footprint_weight_sigma_um(footprint);
+        weight.cutoff_squared = kTruncationSigmas * kTruncationSigmas * major_sigma * major_sigma;
+        weight.scale = 1.0 / (pi * footprint.sigma_um * footprint.sigma_minor_um);
     } else {
         const double sigma = footprint_weight_sigma_um(footprint);
         weight.inverse_two_variance = 0.5 / (sigma * sigma);

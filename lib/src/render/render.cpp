@@ -98,8 +98,9 @@ SurfaceFootprint footprint_on_plane(const CameraFrame& frame, Vec3 direction, do
     const Vec3 a = column(frame.right), b = column(frame.up);
     const double xx = (a.x * a.x + b.x * b.x) / 12.0, yy = (a.y * a.y + b.y * b.y) / 12.0;
     const double xy = (a.x * a.y + b.x * b.y) / 12.0;
+    // Eigenvalues mean ± spread; the major eigenvector's angle ½ atan2(2 xy, xx − yy).
     const double mean = 0.5 * (xx + yy), spread = std::hypot(0.5 * (xx - yy), xy);
-    return {std::sqrt(mean + spread), std::sqrt(std::max(0.0, mean - spread))};
+    return {std::sqrt(mean + spread), std::sqrt(std::max(0.0, mean - spread)), 0.5 * std::atan2(2.0 * xy, xx - yy)};
 }
 
 // x modulo period, in [0, period).
@@ -146,7 +147,15 @@ std::string lights_text(const std::vector<PointLight>& lights) {
     return join(parts, ";");
 }
 
-Provenance render_metadata(const Scene& scene, const RenderSettings& settings) {
+// Which footprint a shading point's BSDF is made for (shading_footprint).
+enum class PixelFootprint { none, equal_area, ellipse };
+
+PixelFootprint pixel_footprint_of(const Scene& scene, const BsdfField& field) {
+    if (!renders_pixel_footprint(scene.method)) return PixelFootprint::none;
+    return field.answers_ellipses() ? PixelFootprint::ellipse : PixelFootprint::equal_area;
+}
+
+Provenance render_metadata(const Scene& scene, const RenderSettings& settings, PixelFootprint pixel) {
     Provenance metadata = describe_query(scene.query);
     metadata["method"] = scene.method;
     metadata["method.reference"] = lobe_method(scene.method).reference;
@@ -157,10 +166,12 @@ Provenance render_metadata(const Scene& scene, const RenderSettings& settings) {
     metadata["render.lights_um_w_per_sr"] = lights_text(scene.lights);
     metadata["render.light_spectrum"] = to_string(scene.light_spectrum);
     metadata["render.spp"] = std::to_string(settings.samples_per_pixel);
-    metadata["render.footprint"] = renders_pixel_footprint(scene.method)
-                                       ? "pixel: each shading point's cell on the patch, as the isotropic Gaussian of "
-                                         "its area (sigma_c recorded per query is not used)"
-                                       : "coherence: the query's footprint centred at each shading point";
+    metadata["render.footprint"] =
+        pixel == PixelFootprint::ellipse      ? "pixel: each shading point's cell on the patch, as its elliptical Gaussian "
+                                                "(sigma_c recorded per query is not used)"
+        : pixel == PixelFootprint::equal_area ? "pixel: each shading point's cell on the patch, as the isotropic Gaussian of "
+                                                "its area (sigma_c recorded per query is not used)"
+                                              : "coherence: the query's footprint centred at each shading point";
     metadata["render.units"] = "radiance W m^-2 sr^-1 per wavelength (direct light from point lights)";
     return metadata;
 }
@@ -224,20 +235,26 @@ bool renders_pixel_footprint(const std::string& method) { return !lobe_method(me
 
 namespace {
 
-Footprint footprint_at(const Scene& scene, const ShadingPoint& point, bool pixel_footprint) {
+Footprint footprint_at(const Scene& scene, const ShadingPoint& point, PixelFootprint pixel) {
     Footprint footprint = scene.query.footprint;
     footprint.centre_um = point.heightfield_um;
-    if (pixel_footprint) {
-        footprint.shape = FootprintShape::gaussian;
-        footprint.sigma_um = std::sqrt(2.0) * point.cell.equal_area_sigma_um();  // weight σ = σ_c/√2
+    if (pixel == PixelFootprint::none) return footprint;
+    // The weight |w|²/A_c has covariance Σ_c/2 (conventions.md): σ_c = √2 σ of the cell's Gaussian.
+    footprint.shape = FootprintShape::gaussian;
+    if (pixel == PixelFootprint::ellipse && point.cell.minor_um < point.cell.major_um) {
+        footprint.sigma_um = std::sqrt(2.0) * point.cell.major_um;
+        footprint.sigma_minor_um = std::sqrt(2.0) * point.cell.minor_um;
+        footprint.axis_radians = point.cell.axis_radians;
+    } else {
+        footprint.sigma_um = std::sqrt(2.0) * point.cell.equal_area_sigma_um();
     }
     return footprint;
 }
 
 }  // namespace
 
-Footprint shading_footprint(const Scene& scene, const ShadingPoint& point) {
-    return footprint_at(scene, point, renders_pixel_footprint(scene.method));
+Footprint shading_footprint(const Scene& scene, const ShadingPoint& point, const BsdfField& field) {
+    return footprint_at(scene, point, pixel_footprint_of(scene, field));
 }
 
 LightArrival light_arrival(const PointLight& light, Vec3 position_um) {
@@ -342,10 +359,10 @@ RenderImage render_with(const Scene& scene, const BsdfField& field, const Render
     image.height = geometry.height;
     image.wavelengths_um = field.wavelengths_um();
     image.values.assign(image.pixels() * layers, 0.0f);
-    image.metadata = render_metadata(scene, settings);
+    image.metadata = render_metadata(scene, settings, pixel_footprint_of(scene, field));
 
     const int spp = settings.samples_per_pixel;
-    const bool pixel_footprint = renders_pixel_footprint(scene.method);
+    const PixelFootprint pixel_footprint = pixel_footprint_of(scene, field);
     std::atomic<std::size_t> rows_done{0};
     std::mutex progress_mutex;
     parallel_for(std::size_t(image.height), 1, [&](std::size_t begin, std::size_t end) {

@@ -164,6 +164,16 @@ TEST(BsdfField, MethodsWithoutAPointFieldAndBadFootprintsAreRefused) {
     Footprint bad = query.footprint;
     bad.sigma_um = -1.0;
     EXPECT_THROW(make_bsdf_field("gabor", query).at(bad), Error);
+    // An ellipse: only a point field that takes one (geometric without shadowing); a lobe query
+    // (make_bsdf, images) would weigh by σ_c alone, so it refuses one naming it.
+    LobeQuery elliptical = query;
+    elliptical.footprint.sigma_minor_um = 0.5 * elliptical.footprint.sigma_um;
+    try {
+        make_bsdf("geometric", elliptical);
+        FAIL() << "a lobe query took an ellipse";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("elliptical footprint"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

@@ -1,11 +1,48 @@
 // Footprints and the sets of footprints a request averages over.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+#include <string>
+
 #include "glintscope/core/error.hpp"
 #include "glintscope/lobe/footprint.hpp"
 
 namespace glintscope {
 namespace {
+
+// An ellipse's minor σ lies in (0, σ_c], its axis is finite, and only a Gaussian has one; σ_minor
+// equal to σ_c is the circle.
+TEST(Footprint, BadEllipsesAreRefusedInOneLine) {
+    Footprint ellipse;
+    ellipse.sigma_minor_um = 4.0;
+    ellipse.axis_radians = 0.3;
+    EXPECT_NO_THROW(validate(ellipse));
+    EXPECT_TRUE(is_elliptical(ellipse));
+    ellipse.sigma_minor_um = ellipse.sigma_um;
+    EXPECT_FALSE(is_elliptical(ellipse));
+    const auto message = [](Footprint footprint) {
+        try {
+            validate(footprint);
+        } catch (const Error& error) {
+            return std::string(error.what());
+        }
+        return std::string();
+    };
+    for (const double minor : {-1.0, 12.0, std::nan("")}) {
+        Footprint bad;
+        bad.sigma_minor_um = minor;
+        EXPECT_NE(message(bad).find("minor sigma"), std::string::npos) << minor;
+    }
+    Footprint turned;
+    turned.sigma_minor_um = 4.0;
+    turned.axis_radians = std::numeric_limits<double>::infinity();
+    EXPECT_NE(message(turned).find("axis"), std::string::npos);
+    Footprint box;
+    set_box(box, "70um");
+    box.sigma_minor_um = 4.0;
+    EXPECT_NE(message(box).find("only a Gaussian"), std::string::npos);
+}
 
 TEST(FootprintSet, CentresStayClearOfTheEdgesAndAreReproducible) {
     const Heightfield field = make_heightfield(200, 300, 1.0);

@@ -360,7 +360,9 @@ TEST(Render, APixelsFootprintIsItsQuadrilateralOnThePatchAndHalvesWhenTheImageDo
         EXPECT_NEAR(half.minor_um, 0.5 * one.minor_um, 1e-9 * one.minor_um);
     }
     // Shading points carry their cell's footprint (half a pixel per side at 2 × 2), and a
-    // geometric method evaluates the Gaussian of its area; a wave method its coherence footprint.
+    // geometric method evaluates that ellipse (its weight's covariance Σ_c/2 the cell's), or the
+    // Gaussian of its area where its settings take no ellipse (shadowing answers from images);
+    // a wave method its coherence footprint.
     Scene scene;
     set_heightfield(scene.query, plane_field(64, 64, 1.0, 0.0));
     scene.camera = camera;
@@ -368,10 +370,45 @@ TEST(Render, APixelsFootprintIsItsQuadrilateralOnThePatchAndHalvesWhenTheImageDo
     const SurfaceFootprint cell = image_footprint(camera, {30.75, 20.75}, 0.5);
     EXPECT_DOUBLE_EQ(point.cell.major_um, cell.major_um);
     EXPECT_DOUBLE_EQ(point.cell.minor_um, cell.minor_um);
+    EXPECT_DOUBLE_EQ(point.cell.axis_radians, cell.axis_radians);
     scene.method = "geometric";
-    EXPECT_DOUBLE_EQ(shading_footprint(scene, point).sigma_um, std::sqrt(2.0 * cell.major_um * cell.minor_um));
+    const Footprint ellipse = shading_footprint(scene, point, make_bsdf_field("geometric", scene.query));
+    EXPECT_DOUBLE_EQ(ellipse.sigma_um, std::sqrt(2.0) * cell.major_um);
+    EXPECT_DOUBLE_EQ(ellipse.sigma_minor_um, std::sqrt(2.0) * cell.minor_um);
+    EXPECT_DOUBLE_EQ(ellipse.axis_radians, cell.axis_radians);
+    scene.query.method_options["shadowing"] = "smith";
+    const Footprint circle = shading_footprint(scene, point, make_bsdf_field("geometric", scene.query));
+    EXPECT_DOUBLE_EQ(circle.sigma_um, std::sqrt(2.0 * cell.major_um * cell.minor_um));
+    EXPECT_FALSE(is_elliptical(circle));
+    scene.query.method_options.clear();
     scene.method = "gabor";
-    EXPECT_EQ(shading_footprint(scene, point).sigma_um, scene.query.footprint.sigma_um);
+    const BsdfField gabor = make_bsdf_field("gabor", scene.query);
+    EXPECT_EQ(shading_footprint(scene, point, gabor).sigma_um, scene.query.footprint.sigma_um);
+    EXPECT_FALSE(gabor.answers_ellipses());
+    EXPECT_THROW(gabor.at(ellipse), Error);  // it would weigh by σ_c alone
+}
+
+// A camera tilted θ from the patch's normal, looking at the patch: at the image's centre the
+// pixel's footprint is an ellipse foreshortened 1/cos θ along the view's azimuth φ and unchanged
+// across it (the closed form of the Jacobian there: the image's right vector lies in the plane,
+// its up vector leaves it at θ).
+TEST(Render, ATiltedCamerasCentrePixelIsAnEllipseOfRatioOneOverCosTheta) {
+    for (const double theta_degrees : {30.0, 60.0, 75.0})
+        for (const double phi_degrees : {-120.0, 30.0}) {
+            const double theta = theta_degrees * pi / 180.0, phi = phi_degrees * pi / 180.0, distance = 1e5;
+            PinholeCamera camera;
+            camera.width = 64;
+            camera.height = 36;
+            camera.position_um = {distance * std::sin(theta) * std::cos(phi), distance * std::sin(theta) * std::sin(phi),
+                                  distance * std::cos(theta)};
+            camera.look_at_um = {0.0, 0.0, 0.0};
+            const SurfaceFootprint centre = image_footprint(camera, {32.0, 18.0}, 1.0);
+            EXPECT_NEAR(centre.major_um / centre.minor_um, 1.0 / std::cos(theta), 1e-9) << theta_degrees;
+            const double side = distance * 2.0 * std::tan(0.5 * camera.vertical_fov_degrees * pi / 180.0) / 36.0;
+            EXPECT_NEAR(centre.minor_um, side / std::sqrt(12.0), 1e-9 * side);
+            // The major axis along ±(cos φ, sin φ): the same line whatever its sign.
+            EXPECT_NEAR(std::fabs(std::sin(centre.axis_radians - phi)), 0.0, 1e-9) << theta_degrees << "," << phi_degrees;
+        }
 }
 
 // A flat mirror rendered geometrically with intrinsic roughness σ (a point light needs it: the
@@ -415,7 +452,7 @@ TEST(Render, AGeometricFlatMirrorSendsTheCameraTheLightsMirrorImageTimesFresnel)
 }
 
 // A geometric pixel is the mean over its shading points of the method's BSDF field at the
-// Gaussian of the cell's footprint (computed here from image_footprint), times the irradiance.
+// ellipse of the cell's footprint (computed here from image_footprint), times the irradiance.
 TEST(Render, AGeometricPixelIsTheFieldsBsdfAtItsCellsFootprint) {
     static const Heightfield field = generate_builtin("isotropic");
     Scene scene;
@@ -427,6 +464,7 @@ TEST(Render, AGeometricPixelIsTheFieldsBsdfAtItsCellsFootprint) {
     scene.camera.vertical_fov_degrees = 0.4;  // 50 um pixels about the patch's centre, the highlight
     const RenderSettings settings{4, 0};
     const RenderImage image = render(scene, settings);
+    EXPECT_NE(image.metadata.at("render.footprint").find("elliptical Gaussian"), std::string::npos);
     LobeQuery query = scene.query;
     const BsdfField bsdfs = make_bsdf_field("geometric", query);
     int lit = 0;
@@ -437,9 +475,11 @@ TEST(Render, AGeometricPixelIsTheFieldsBsdfAtItsCellsFootprint) {
             for (int k = 0; k < 4; ++k) {
                 const ShadingPoint& point = points[k];
                 const SurfaceFootprint cell = image_footprint(scene.camera, {col + 0.25 + 0.5 * (k % 2), row + 0.25 + 0.5 * (k / 2)}, 0.5);
-                Footprint footprint;
+                Footprint footprint;  // the cell's ellipse, its weight's covariance Σ_c/2 the cell's
                 footprint.centre_um = point.heightfield_um;
-                footprint.sigma_um = std::sqrt(2.0) * cell.equal_area_sigma_um();
+                footprint.sigma_um = std::sqrt(2.0) * cell.major_um;
+                footprint.sigma_minor_um = std::sqrt(2.0) * cell.minor_um;
+                footprint.axis_radians = cell.axis_radians;
                 const LightArrival arrival = light_arrival(scene.lights[0], point.position_um);
                 expected += bsdfs.at(footprint).eval(arrival.omega_i, point.omega_o)[0] * arrival.irradiance / 4.0;
             }

@@ -75,7 +75,11 @@ Bsdf make_bsdf(const std::string& method, const LobeQuery& query);
 // safe to call from many threads. at(query.footprint) answers exactly as make_bsdf(method, query).
 class BsdfField {
 public:
+    // Throws Error for an elliptical footprint if !answers_ellipses().
     Bsdf at(const Footprint& footprint) const;
+    // Whether `at` takes elliptical Gaussian footprints: the method says so
+    // (MethodInfo::elliptical_footprints) and its point query answers them with these settings.
+    bool answers_ellipses() const;
     const std::string& method() const;
     const std::vector<double>& wavelengths_um() const;
 

@@ -18,13 +18,27 @@ enum class FootprintShape { gaussian, box, whole };
 // and `size_y_um` along y (Dong 2015's 70 × 53 µm patches; 0: a square), A_c its area. Geometric
 // methods weigh the surface by |w|²/A_c: a normalised Gaussian of standard deviation σ_c/√2, or
 // the box.
+//
+// An elliptical Gaussian (a render pixel's footprint on the patch, docs/render.md):
+// w(s) = exp(−½ (s − x_c)ᵀ Σ_c⁻¹ (s − x_c)) with Σ_c = R diag(σ_c², σ_minor²) Rᵀ, R the rotation
+// by `axis_radians` from +x to σ_c's axis, A_c = π σ_c σ_minor; geometric methods weigh the surface
+// by |w|²/A_c, the normalised Gaussian of covariance Σ_c/2. Only point queries that say so take
+// one (MethodInfo::elliptical_footprints); lobe images refuse it (validate(LobeQuery)).
 struct Footprint {
     Point2 centre_um;
     double sigma_um = 10.0;
     FootprintShape shape = FootprintShape::gaussian;
-    double size_um = 0.0;    // box side along x (box only)
-    double size_y_um = 0.0;  // box side along y (box only); 0: size_um
+    double size_um = 0.0;         // box side along x (box only)
+    double size_y_um = 0.0;       // box side along y (box only); 0: size_um
+    double sigma_minor_um = 0.0;  // Gaussian: σ across the axis; 0 (or σ_c): isotropic
+    double axis_radians = 0.0;    // elliptical Gaussian: σ_c's axis from +x
 };
+
+// Whether the footprint is a Gaussian with two different standard deviations.
+inline bool is_elliptical(const Footprint& footprint) {
+    return footprint.shape == FootprintShape::gaussian && footprint.sigma_minor_um > 0.0 &&
+           footprint.sigma_minor_um != footprint.sigma_um;
+}
 
 inline double box_width_um(const Footprint& footprint) { return footprint.size_um; }
 inline double box_height_um(const Footprint& footprint) {
@@ -35,7 +49,7 @@ inline double box_height_um(const Footprint& footprint) {
 // zero side, which validate(Footprint) would otherwise read as a square.
 void set_box(Footprint& footprint, std::string_view sides);
 
-// Checks a footprint's centre, σ_c and box sides and throws Error naming the bad one (part of
+// Checks a footprint's centre, σ_c (and an ellipse's σ_minor ≤ σ_c and axis) and box sides and throws Error naming the bad one (part of
 // validate(LobeQuery); also for commands that only draw a footprint).
 void validate(const Footprint& footprint);
 

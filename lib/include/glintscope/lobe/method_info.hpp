@@ -27,6 +27,8 @@ struct MethodInfo {
     bool wave_optics = false;          // its lobes carry the coherence blur λ/(2πσ_c)
     bool whole_field = false;          // it answers FootprintShape::whole
     bool exact_pixels = false;         // it can integrate pixels exactly (supersample exact, its automatic choice)
+    // Its point query for any footprint (BsdfField) answers elliptical Gaussians (Footprint::sigma_minor_um).
+    bool elliptical_footprints = false;
     // It reads square texels only: the pipeline resamples a field with dx ≠ dy to square texels
     // first (surface/square_texels.hpp) and records it (metadata heightfield.square_texels).
     bool needs_square_texels = false;

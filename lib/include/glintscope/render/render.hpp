@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "glintscope/bsdf/bsdf.hpp"
 #include "glintscope/core/geometry.hpp"
 #include "glintscope/lobe/query.hpp"
 #include "glintscope/optics/spectrum.hpp"
@@ -80,11 +81,13 @@ void validate_view(const Scene& scene, const RenderSettings& settings);
 // A square of the image seen on the patch, as a Gaussian: the square's box filter (covariance
 // 1/12 of its side² per axis) carried to the plane z = 0 through the camera (the Jacobian J of the
 // map from image to plane at the square's centre) has the covariance J diag(1/12, 1/12) Jᵀ side²,
-// an ellipse whose principal standard deviations are major and minor (µm).
+// an ellipse whose principal standard deviations are major and minor (µm), the major one along
+// the direction at axis_radians from the patch's +x.
 struct SurfaceFootprint {
     double major_um = 0.0;
     double minor_um = 0.0;
-    // The isotropic Gaussian of the same area (determinant): what a P-NDF query weighs with.
+    double axis_radians = 0.0;
+    // The isotropic Gaussian of the same area (determinant): what a method that takes no ellipse weighs with.
     double equal_area_sigma_um() const;
 };
 // The footprint of the square of `side_pixels` centred at image point (x along columns from the
@@ -108,14 +111,15 @@ std::vector<ShadingPoint> shading_points(const Scene& scene, const RenderSetting
 // surface (Yan 2014/2016), the light's coherence being a wave effect.
 bool renders_pixel_footprint(const std::string& method);
 
-// The footprint whose BSDF a shading point evaluates. A wave method: the query's coherence
-// footprint centred at the point (Yan 2018 §3.1). A geometric method: the Gaussian whose surface
-// weight |w|²/A_c (conventions.md, a normalised Gaussian of σ_c/√2) is the isotropic Gaussian of
-// the same area as the cell's footprint (σ_c = √2 · equal_area_sigma), centred at the point. A
-// point light subtends no solid angle, so the P-NDF's spikes are smoothed only by the method's
-// option intrinsic_roughness (Yan 2014's intrinsic roughness; 0: a flat region's D is a spike,
-// black away from exact reflection).
-Footprint shading_footprint(const Scene& scene, const ShadingPoint& point);
+// The footprint whose BSDF a shading point evaluates from `field` (the scene's method's). A wave
+// method: the query's coherence footprint centred at the point (Yan 2018 §3.1). A geometric
+// method: the Gaussian whose surface weight |w|²/A_c (conventions.md, covariance Σ_c/2) is the
+// cell's footprint, centred at the point: the ellipse itself (σ_c = √2 major, σ_minor = √2 minor,
+// its axis) where the field answers ellipses (BsdfField::answers_ellipses), else the isotropic
+// Gaussian of the same area (σ_c = √2 · equal_area_sigma). A point light subtends no solid angle,
+// so the P-NDF's spikes are smoothed only by the method's option intrinsic_roughness (Yan 2014's
+// intrinsic roughness; 0: a flat region's D is a spike, black away from exact reflection).
+Footprint shading_footprint(const Scene& scene, const ShadingPoint& point, const BsdfField& field);
 
 // Irradiance E = I cosθ_i / r² (W/m²) from a light at a shading point, and ω_i toward the light.
 struct LightArrival {

@@ -398,6 +398,7 @@ MethodEntry geometric_method() {
     for (const MethodOption& option : normal_density_options()) entry.info.options.push_back(option);
     entry.info.whole_field = true;
     entry.info.exact_pixels = true;
+    entry.info.elliptical_footprints = true;
     entry.compute = geometric_lobe;
     entry.point = geometric_point;
     entry.point_field = geometric_point_field;
