@@ -6,9 +6,9 @@
 #include <string>
 
 #include <memory>
-#include <mutex>
 #include <optional>
 
+#include "core/lazy.hpp"
 #include "normal_density/microfacet_answers.hpp"
 #include "normal_density/normal_bounds_tree.hpp"
 #include "normal_density/normal_density.hpp"
@@ -322,26 +322,6 @@ PointAnswers geometric_point(const LobeQuery& query) {
     return microfacet_answers({density_table(query, settings), refractive_indices(query), {}}, query.wavelengths_um.size());
 }
 
-// A footprint's normal sampler, made on the first draw or pdf (eval alone, a renderer's shading
-// point, never pays for it) and then shared by every thread.
-class LazyNormalSampler {
-public:
-    LazyNormalSampler(std::shared_ptr<const NormalBoundsTree> tree, const Footprint& footprint)
-        : tree_(std::move(tree)), footprint_(footprint) {}
-
-    const NormalSampler& get() const {
-        std::call_once(once_, [&] { sampler_ = make_normal_sampler(*tree_, footprint_); });
-        return sampler_;
-    }
-    const NormalBoundsTree& tree() const { return *tree_; }
-
-private:
-    std::shared_ptr<const NormalBoundsTree> tree_;
-    Footprint footprint_;
-    mutable std::once_flag once_;
-    mutable NormalSampler sampler_;
-};
-
 // f_r for any footprint from one tree over the field: the point query of the same triangles
 // as the internal table of point-sampled pixels, read at h itself rather than bilinearly; without
 // intrinsic roughness also its sampler: h drawn with the point query's own density
@@ -366,16 +346,20 @@ PointAnswersAt geometric_point_field(const LobeQuery& query) {
                                     layers);
         };
         if (tree->intrinsic_roughness > 0.0) return answers;
-        auto sampler = std::make_shared<const LazyNormalSampler>(tree, footprint);
-        answers.sample = [sampler](Vec3 omega_i, double u1, double u2) -> DirectionSample {
+        // The footprint's sampler is made on the first draw or pdf (eval alone, a renderer's
+        // shading point, never pays for it) and then shared by every thread.
+        auto sampler = std::make_shared<const Lazy<NormalSampler>>([tree, footprint] {
+            return make_normal_sampler(*tree, footprint);
+        });
+        answers.sample = [tree, sampler](Vec3 omega_i, double u1, double u2) -> DirectionSample {
             const NormalSampler& normals = sampler->get();
-            const std::optional<DiskPoint> h = sample_normal(sampler->tree(), normals, u1, u2);
+            const std::optional<DiskPoint> h = sample_normal(*tree, normals, u1, u2);
             if (!h) return {};
-            return reflected_sample(omega_i, *h, sampled_normal_density(sampler->tree(), normals, *h));
+            return reflected_sample(omega_i, *h, sampled_normal_density(*tree, normals, *h));
         };
-        answers.pdf = [sampler](Vec3 omega_i, Vec3 omega_o) {
+        answers.pdf = [tree, sampler](Vec3 omega_i, Vec3 omega_o) {
             const Vec3 h = normalize(omega_i + omega_o);
-            return reflection_pdf(sampled_normal_density(sampler->tree(), sampler->get(), {h.x, h.y}), h, omega_o);
+            return reflection_pdf(sampled_normal_density(*tree, sampler->get(), {h.x, h.y}), h, omega_o);
         };
         return answers;
     };
