@@ -910,43 +910,23 @@ std::vector<std::size_t> order_by_first_wavelength(const GaborPointQuery& query,
     std::vector<std::size_t> next(prefix.begin(), prefix.end() - 1);
     for (std::size_t k = 0; k < n; ++k) destination[k] = next[destination[k]]++;
     ordered.resize(n);
-    // One pass for the six first-order arrays, another for H'' (second order), through plain pointers.
-    {
-        const std::size_t* __restrict where = destination.data();
-        const double* __restrict px = collected.px.data();
-        const double* __restrict py = collected.py.data();
-        const double* __restrict height = collected.height.data();
-        const double* __restrict weight = collected.weight.data();
-        double* __restrict to_px = ordered.px.data();
-        double* __restrict to_py = ordered.py.data();
-        double* __restrict to_height = ordered.height.data();
-        double* __restrict to_slope_x = ordered.slope_x.data();
-        double* __restrict to_slope_y = ordered.slope_y.data();
-        double* __restrict to_weight = ordered.weight.data();
-        for (std::size_t k = 0; k < n; ++k) {
-            const std::size_t at = where[k];
-            to_px[at] = px[k];
-            to_py[at] = py[k];
-            to_height[at] = height[k];
-            to_slope_x[at] = slope_x[k];
-            to_slope_y[at] = slope_y[k];
-            to_weight[at] = weight[k];
-        }
-    }
+    // Array by array through plain pointers, so that each pass pipelines.
+    const std::size_t* __restrict where = destination.data();
+    const auto scatter = [&](const std::vector<double>& from, std::vector<double>& to) {
+        const double* __restrict source = from.data();
+        double* __restrict target = to.data();
+        for (std::size_t k = 0; k < n; ++k) target[where[k]] = source[k];
+    };
+    scatter(collected.px, ordered.px);
+    scatter(collected.py, ordered.py);
+    scatter(collected.height, ordered.height);
+    scatter(collected.slope_x, ordered.slope_x);
+    scatter(collected.slope_y, ordered.slope_y);
+    scatter(collected.weight, ordered.weight);
     if (grid.order == 2) {
-        const std::size_t* __restrict where = destination.data();
-        const double* __restrict hxx = collected.curvature_xx.data();
-        const double* __restrict hxy = collected.curvature_xy.data();
-        const double* __restrict hyy = collected.curvature_yy.data();
-        double* __restrict to_hxx = ordered.curvature_xx.data();
-        double* __restrict to_hxy = ordered.curvature_xy.data();
-        double* __restrict to_hyy = ordered.curvature_yy.data();
-        for (std::size_t k = 0; k < n; ++k) {
-            const std::size_t at = where[k];
-            to_hxx[at] = hxx[k];
-            to_hxy[at] = hxy[k];
-            to_hyy[at] = hyy[k];
-        }
+        scatter(collected.curvature_xx, ordered.curvature_xx);
+        scatter(collected.curvature_xy, ordered.curvature_xy);
+        scatter(collected.curvature_yy, ordered.curvature_yy);
     }
     return prefix;
 }
