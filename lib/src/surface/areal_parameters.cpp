@@ -317,8 +317,13 @@ void add_spatial_parameters(const Heightfield& field, const ValidHeights& valid,
     p.std_deg = texture_direction_deg(field, valid.mean, field.dx_um(), field.dy_um());
 }
 
+// Slopes need both neighbours, which a non-periodic field smaller than 3 × 3 lacks.
+bool too_small_for_slopes(const Heightfield& field) {
+    return !field.periodic && (field.rows < 3 || field.cols < 3);
+}
+
 void check_field_size(const Heightfield& field) {
-    if (!field.periodic && (field.rows < 3 || field.cols < 3))
+    if (too_small_for_slopes(field))
         throw Error("areal parameters need at least 3 x 3 samples (slopes need both neighbours)");
 }
 
@@ -340,7 +345,7 @@ SurfaceReport compute_surface_report(const Heightfield& field, double threshold)
     report.statistics = statistics_without_correlation(field, valid);
     if (!(report.statistics.sq_um > 0.0))
         report.iso_undefined = "the heights do not vary";
-    else if (!field.periodic && (field.rows < 3 || field.cols < 3))
+    else if (too_small_for_slopes(field))
         report.iso_undefined = "fewer than 3 x 3 samples";
     if (!report.iso_undefined.empty()) {
         line_correlation_lengths(field, report.statistics);
