@@ -44,6 +44,8 @@ void BM_BsdfTable(benchmark::State& state, const char* method) {
 }
 BENCHMARK_CAPTURE(BM_BsdfTable, dk, "dk")->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_BsdfTable, geometric, "geometric")->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+// gabor's "table" is the footprint's slope index (its kernels gathered and sorted by slope cell).
+BENCHMARK_CAPTURE(BM_BsdfTable, gabor, "gabor")->Arg(64)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 void BM_BsdfEval(benchmark::State& state, const char* method) {
     const glintscope::Bsdf bsdf = glintscope::make_bsdf(method, builtin_query(static_cast<int>(state.range(0))));

@@ -349,50 +349,65 @@ BsdfField scene_field(const Scene& scene) {
     return make_bsdf_field(scene.method, query);
 }
 
-RenderImage render_with(const Scene& scene, const BsdfField& field, const RenderSettings& settings,
-                        const RunProgress& progress) {
+RenderImage empty_image(const Scene& scene, const BsdfField& field, const RenderSettings& settings) {
+    RenderImage image;
+    image.width = scene.camera.width;
+    image.height = scene.camera.height;
+    image.wavelengths_um = field.wavelengths_um();
+    image.values.assign(image.pixels() * image.wavelengths_um.size(), 0.0f);
+    image.metadata = render_metadata(scene, settings, pixel_footprint_of(scene, field));
+    return image;
+}
+
+// The frames' images (scenes that differ only in their lights): each shading point's BSDF is made
+// once and evaluated for every frame's lights, so a sweep pays the footprint once per point and
+// finds its data in cache for the other frames; each frame's pixel is summed in the same order as
+// a render of that frame alone.
+std::vector<RenderImage> render_frames(const std::vector<Scene>& frames, const BsdfField& field,
+                                       const RenderSettings& settings, const RunProgress& progress) {
+    const Scene& scene = frames.front();
     const SceneGeometry geometry(scene, settings);
     const std::size_t layers = field.wavelengths_um().size();
+    std::vector<RenderImage> images;
+    for (const Scene& frame : frames) images.push_back(empty_image(frame, field, settings));
 
-    RenderImage image;
-    image.width = geometry.width;
-    image.height = geometry.height;
-    image.wavelengths_um = field.wavelengths_um();
-    image.values.assign(image.pixels() * layers, 0.0f);
-    image.metadata = render_metadata(scene, settings, pixel_footprint_of(scene, field));
-
+    const int width = geometry.width, height = geometry.height;
     const int spp = settings.samples_per_pixel;
     const PixelFootprint pixel_footprint = pixel_footprint_of(scene, field);
     std::atomic<std::size_t> rows_done{0};
     std::mutex progress_mutex;
-    parallel_for(std::size_t(image.height), 1, [&](std::size_t begin, std::size_t end) {
-        std::vector<double> sum(layers);
+    parallel_for(std::size_t(height), 1, [&](std::size_t begin, std::size_t end) {
+        std::vector<double> sums(frames.size() * layers);  // frame-major: the pixel's sum per frame and layer
         for (int row = int(begin); row < int(end); ++row) {
-            for (int col = 0; col < image.width; ++col) {
-                std::fill(sum.begin(), sum.end(), 0.0);
+            for (int col = 0; col < width; ++col) {
+                std::fill(sums.begin(), sums.end(), 0.0);
                 for (int b = 0; b < geometry.per_axis; ++b)
                     for (int a = 0; a < geometry.per_axis; ++a) {
                         const ShadingPoint point = geometry.at(row, col, b, a);
                         if (!point.hit) continue;
                         const Bsdf bsdf = field.at(footprint_at(scene, point, pixel_footprint));
-                        for (const PointLight& light : scene.lights) {
-                            const LightArrival arrival = light_arrival(light, point.position_um);
-                            if (arrival.irradiance == 0.0) continue;
-                            const std::vector<double> f = bsdf.eval(arrival.omega_i, point.omega_o);
-                            for (std::size_t k = 0; k < layers; ++k) sum[k] += f[k] * arrival.irradiance;  // L = f_r E
-                        }
+                        for (std::size_t frame = 0; frame < frames.size(); ++frame)
+                            for (const PointLight& light : frames[frame].lights) {
+                                const LightArrival arrival = light_arrival(light, point.position_um);
+                                if (arrival.irradiance == 0.0) continue;
+                                const std::vector<double> f = bsdf.eval(arrival.omega_i, point.omega_o);
+                                double* sum = &sums[frame * layers];
+                                for (std::size_t k = 0; k < layers; ++k) sum[k] += f[k] * arrival.irradiance;  // L = f_r E
+                            }
                     }
-                for (std::size_t k = 0; k < layers; ++k)
-                    image.values[(k * image.height + row) * std::size_t(image.width) + col] = float(sum[k] / spp);
+                for (std::size_t frame = 0; frame < frames.size(); ++frame)
+                    for (std::size_t k = 0; k < layers; ++k)
+                        images[frame].values[(k * height + row) * std::size_t(width) + col] =
+                            float(sums[frame * layers + k] / spp);
             }
             const std::size_t done = ++rows_done;
             if (progress) {
                 const std::lock_guard lock(progress_mutex);
-                progress(done, std::size_t(image.height));
+                progress(done, std::size_t(height));
             }
         }
     });
-    return image;
+    return images;
 }
 
 }  // namespace
@@ -400,7 +415,7 @@ RenderImage render_with(const Scene& scene, const BsdfField& field, const Render
 RenderImage render(const Scene& scene, const RenderSettings& settings, const RunProgress& progress) {
     validate(scene, settings);
     const ThreadScope threads(settings.threads);  // the field's hierarchy and the rows
-    return render_with(scene, scene_field(scene), settings, progress);
+    return std::move(render_frames({scene}, scene_field(scene), settings, progress).front());
 }
 
 std::vector<RenderImage> render_light_sweep(const Scene& scene, int frames, double span_um, const RenderSettings& settings,
@@ -408,13 +423,7 @@ std::vector<RenderImage> render_light_sweep(const Scene& scene, int frames, doub
     const std::vector<Scene> sweep = light_sweep(scene, frames, span_um);
     validate(scene, settings);
     const ThreadScope threads(settings.threads);
-    const BsdfField field = scene_field(scene);  // the lights move; the surface and its BSDFs do not
-    std::vector<RenderImage> images;
-    for (std::size_t k = 0; k < sweep.size(); ++k)
-        images.push_back(render_with(sweep[k], field, settings, [&](std::size_t done, std::size_t total) {
-            if (progress) progress(k * total + done, sweep.size() * total);
-        }));
-    return images;
+    return render_frames(sweep, scene_field(scene), settings, progress);  // the lights move; the surface does not
 }
 
 }  // namespace glintscope

@@ -146,8 +146,9 @@ std::vector<Scene> light_sweep(const Scene& scene, int frames, double span_um);
 // one call at a time, from any of the threads.
 RenderImage render(const Scene& scene, const RenderSettings& settings, const RunProgress& progress = {});
 
-// The frames of light_sweep(scene, frames, span_um), each as render() makes it, the method's
-// BSDF field built once for all; progress counts rows over all frames.
+// The frames of light_sweep(scene, frames, span_um), each bit-identical to render() of that frame:
+// the method's BSDF field is built once for all, and each shading point's BSDF once for all frames
+// (the camera does not move). progress counts image rows, each done for every frame at once.
 std::vector<RenderImage> render_light_sweep(const Scene& scene, int frames, double span_um, const RenderSettings& settings,
                                             const RunProgress& progress = {});
 
