@@ -6,6 +6,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "glintscope/core/atomic_output.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/text_format.hpp"
@@ -59,7 +60,7 @@ void add_compare_command(CLI::App& app) {
     command->add_option("b", settings->b, "Image B, the reference: relative L2 = |A - B| / |B| over the disk")->required();
     command->add_option("--fail-above", settings->fail_above,
                         "Exit 1 when any layer's relative L2 exceeds X (e.g. 0.01), after writing --json and --diff")
-        ->check(CLI::NonNegativeNumber)
+        ->check(kNonNegative)
         ->type_name("X");
     command->add_option("--diff", settings->diff,
                         "Picture (.png) of the layer of largest relative L2: A and B exposed alike, and A - B on a "

@@ -1,5 +1,4 @@
 // glintscope: how a surface's microgeometry reflects light.
-#include <cstdint>
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -11,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "progress.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
     std::optional<glintscope::ThreadScope> threads_scope;
     app.add_option_function<int>("--threads", [&](int threads) { threads_scope.emplace(threads); },
                                  "Worker threads (default: all cores; results do not depend on it)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(glintscope::cli::kNonNegative)
         ->trigger_on_parse();
 
     app.add_flag_function("--quiet", [](std::int64_t) { glintscope::cli::verbosity().quiet = true; },

@@ -1,7 +1,10 @@
 #include "options.hpp"
 
+#include <cmath>
+
 #include "glintscope/core/error.hpp"
 #include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/core/text_format.hpp"
 #include "glintscope/core/units.hpp"
 
 namespace glintscope::cli {
@@ -21,6 +24,17 @@ CLI::Option* add_length_option(CLI::App& command, const std::string& name, doubl
     option->type_name("LENGTH");
     return option;
 }
+
+const CLI::Validator kNonNegative(
+    [](std::string& text) -> std::string {
+        double value = -1.0;
+        try {
+            value = parse_number(text);
+        } catch (const Error&) {
+        }
+        return value >= 0.0 && std::isfinite(value) ? "" : "must be a number 0 or more, got '" + text + "'";
+    },
+    "NONNEGATIVE");
 
 void add_load_options(CLI::App& command, LoadOptions& options) {
     command

@@ -12,6 +12,10 @@ namespace glintscope::cli {
 CLI::Option* add_length_option(CLI::App& command, const std::string& name, double& target_um,
                                const std::string& description);
 
+// A check that a number is finite and not negative, whose message says so in those words (CLI11's
+// NonNegativeNumber prints its range up to the largest double).
+extern const CLI::Validator kNonNegative;
+
 // The loading options of every heightfield input: --channel, --height-unit, --texel,
 // --height-scale, --periodic (see LoadOptions).
 void add_load_options(CLI::App& command, LoadOptions& options);

@@ -88,6 +88,8 @@ TEST_F(CompareCommand, BadOutputsFailInOneLineBeforeReadingTheInputs) {
         {{"--diff", directory.file("no/d.png")}, "does not exist"},
         {{"--json", directory.file("r.csv")}, "must end in .json"},
         {{"--json", directory.file("no/r.json")}, "does not exist"},
+        {{"--fail-above", "-1"}, "--fail-above: must be a number 0 or more, got '-1'"},
+        {{"--threads", "nan"}, "--threads: must be a number 0 or more, got 'nan'"},
     };
     for (const auto& [extra, message] : requests) {
         std::vector<std::string> arguments = {"compare", a, b};
