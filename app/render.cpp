@@ -6,9 +6,15 @@
 #include "progress.hpp"
 #include "query_flags.hpp"
 
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
+#include <optional>
+#include <vector>
 
 #include "glintscope/bsdf/bsdf.hpp"
 #include "glintscope/core/atomic_output.hpp"
@@ -44,20 +50,49 @@ std::string with_suffix(const std::string& path, const std::string& suffix) {
     return (p.parent_path() / (p.stem().string() + suffix)).string();
 }
 
+// Runs a program found on the PATH with these arguments, without a shell, so that file names
+// pass as they are (quotes, spaces, a leading '-' or '$' are not syntax); its exit status, or
+// nothing when it cannot be started (not installed).
+std::optional<int> run_program(const std::vector<std::string>& arguments) {
+    std::vector<char*> argv;
+    for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
+    argv.push_back(nullptr);
+    pid_t child = 0;
+    if (posix_spawnp(&child, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return std::nullopt;
+    int status = 0;
+    while (waitpid(child, &status, 0) < 0)
+        if (errno != EINTR) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A file name as ffmpeg reads it: its image sequence pattern takes %% for a literal %, and a
+// relative name starting with '-' would be an option.
+std::string ffmpeg_path(const std::filesystem::path& path) {
+    std::string text = path.string();
+    if (!path.is_absolute()) text = "./" + text;
+    std::string escaped;
+    for (const char c : text) escaped += c == '%' ? std::string("%%") : std::string(1, c);
+    return escaped;
+}
+
 // The frames as an MP4 through ffmpeg when it is installed (a note otherwise), written beside
-// the PNGs under a temporary name and renamed, as every output is.
+// the PNGs under a temporary name and renamed, as every output is. Odd frame sizes are padded
+// to even ones (H.264 in yuv420p needs them); -nostdin keeps ffmpeg off the terminal.
 void write_sweep_video(const std::string& png, int frames) {
-    if (std::system("command -v ffmpeg > /dev/null 2>&1") != 0) {
+    const std::string video = with_suffix(png, ".mp4"), partial = with_suffix(png, ".partial.mp4");
+    const std::filesystem::path p(png);
+    const std::string digits = std::to_string(std::to_string(frames - 1).size());
+    const std::string pattern = ffmpeg_path(p.parent_path() / p.stem()) + "-%0" + digits + "d.png";
+    std::string output = partial;
+    if (!std::filesystem::path(partial).is_absolute()) output = "./" + partial;
+    const std::optional<int> status =
+        run_program({"ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-framerate", "8", "-i", pattern, "-vf",
+                     "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-pix_fmt", "yuv420p", "-f", "mp4", output});
+    if (!status) {
         std::printf("no MP4: ffmpeg is not installed (apt-get install ffmpeg); the frames and the contact sheet are written\n");
         return;
     }
-    const std::string video = with_suffix(png, ".mp4"), partial = with_suffix(png, ".partial.mp4");
-    const std::filesystem::path p(png);
-    const std::string pattern = (p.parent_path() / (p.stem().string() + "-%0" +
-                                                    std::to_string(std::to_string(frames - 1).size()) + "d.png")).string();
-    const std::string call = "ffmpeg -y -loglevel error -framerate 8 -i '" + pattern +
-                             "' -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -pix_fmt yuv420p '" + partial + "'";
-    if (std::system(call.c_str()) != 0) {
+    if (*status != 0) {
         std::filesystem::remove(partial);
         throw Error("ffmpeg could not write '" + video + "' from the frames");
     }

@@ -16,6 +16,8 @@ packages=(
   # (GLINTSCOPE_CMAKE_ARGS=-DGLINTSCOPE_GWYDDION=ON, GPL-2+: docs/dependencies.md)
   libgwyddion20-dev gwyddion libgtk2.0-dev libgtkglext1-dev
   fonts-dejavu-core
+  # render --light-sweep's MP4 (a program called without a shell, not linked) and its test's ffprobe
+  ffmpeg
 )
 
 missing=()

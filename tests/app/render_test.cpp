@@ -130,5 +130,31 @@ TEST(RenderCommand, ALightSweepWritesItsFramesWithOneExposureAndAContactSheetOfT
     EXPECT_NE(refused.output.find("--light-sweep needs --png"), std::string::npos) << refused.output;
 }
 
+// With ffmpeg installed, the sweep's MP4 holds every frame at the frames' size padded to even
+// sides, whatever the file name holds: ffmpeg is run without a shell, so a quote, a space, a '%'
+// (ffmpeg's own pattern syntax) or a command substitution in the name is just a name.
+TEST(RenderCommand, ALightSweepsVideoHoldsEveryFrameWhateverItsFileName) {
+    if (testing::run_shell("command -v ffmpeg && command -v ffprobe").exit_code != 0)
+        GTEST_SKIP() << "ffmpeg is not installed (scripts/setup.sh installs it)";
+    TemporaryDirectory directory;
+    std::filesystem::remove("injected");
+    const std::string name = "it's 100% $(touch injected)";
+    const auto result = run_cli({"render", "builtin:isotropic", "--size", "21x13", "--fov", "4", "--spp", "1",
+                                 "--camera", "0,-6cm,6cm:1mm,0,0", "--light", "0,6cm,7cm:2", "--patch", "4cm",
+                                 "--sigma-c", "8um", "--lambda", "0.4um", "--order", "1", "--light-sweep", "3", "-o",
+                                 directory.file("v.exr"), "--png", directory.file(name + ".png")});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find(name + ".mp4: 3 frames at 8 per second"), std::string::npos) << result.output;
+    const auto probe = testing::run_shell("ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+                                          "stream=nb_read_frames,width,height -of csv=p=0 " +
+                                          testing::shell_quote(directory.file(name + ".mp4")));
+    ASSERT_EQ(probe.exit_code, 0) << probe.output;
+    EXPECT_EQ(probe.output, "22,14,3\n");
+    // 3 EXRs, 3 PNGs, the sheet and the video (no partial file), and the substitution never ran
+    // (a shell would run it in the working directory).
+    EXPECT_EQ(testing::count_entries(directory.path()), 8);
+    EXPECT_FALSE(std::filesystem::exists("injected"));
+}
+
 }  // namespace
 }  // namespace glintscope

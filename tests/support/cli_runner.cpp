@@ -8,7 +8,6 @@
 #include <unistd.h>
 
 namespace glintscope::testing {
-namespace {
 
 std::string shell_quote(const std::string& text) {
     std::string quoted = "'";
@@ -20,8 +19,6 @@ std::string shell_quote(const std::string& text) {
     }
     return quoted + "'";
 }
-
-}  // namespace
 
 CliResult run_cli(const std::vector<std::string>& arguments) {
     std::string command = shell_quote(GLINTSCOPE_EXE);

@@ -18,6 +18,9 @@ CliResult run_cli(const std::vector<std::string>& arguments);
 CliResult run_shell(std::string command);
 std::string executable();
 
+// text as one word of a shell command line, whatever it holds.
+std::string shell_quote(const std::string& text);
+
 // A fresh directory under the system temporary directory, removed when the object dies.
 class TemporaryDirectory {
 public:
