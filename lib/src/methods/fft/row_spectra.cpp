@@ -19,18 +19,22 @@ constexpr double kBeta = 2.30 * kWidth;    // Barnett et al. 2019's choice at ov
 // The kernel at z = 2Lu/w ∈ [−1, 1].
 double kernel(double z) { return std::exp(kBeta * (std::sqrt(1.0 - z * z) - 1.0)); }
 
-// K̂(q) = ∫ K(u) e^{i2πqu} du = (w/2L) ∫_{−1}^{1} K(z) cos(π q w z/L) dz by the trapezoidal rule:
-// K and all its derivatives fall to e^{−β} ≈ 1e-16 at z = ±1, so the rule converges
-// geometrically; 128 nodes agree with 64 and 512 to rounding.
-double kernel_transform(int q, int size) {
+// 1/(L K̂(q)) for q = 0 … count − 1, K̂(q) = ∫ K(u) e^{i2πqu} du = (w/2L) ∫_{−1}^{1} K(z)
+// cos(π q w z/L) dz by the trapezoidal rule over 128 nodes: K is smooth inside and falls to
+// e^{−β} ≈ 1e-16 at z = ±1, so the rule converges fast (64, 128 and 512 nodes measured the same
+// error of the spectra).
+std::vector<double> deconvolution(int count, int size) {
     constexpr int kNodes = 128;
     const double dz = 2.0 / kNodes;
-    double sum = 0.0;
-    for (int i = 1; i < kNodes; ++i) {
-        const double z = -1.0 + i * dz;
-        sum += kernel(z) * std::cos(pi * q * kWidth * z / size);
+    std::vector<double> at_nodes(kNodes);
+    for (int i = 1; i < kNodes; ++i) at_nodes[i] = kernel(-1.0 + i * dz);
+    std::vector<double> inverse(count);
+    for (int q = 0; q < count; ++q) {
+        double sum = 0.0;
+        for (int i = 1; i < kNodes; ++i) sum += at_nodes[i] * std::cos(pi * q * kWidth * (-1.0 + i * dz) / size);
+        inverse[q] = 1.0 / (size * sum * dz * kWidth / (2.0 * size));
     }
-    return sum * dz * kWidth / (2.0 * size);
+    return inverse;
 }
 
 }  // namespace
@@ -41,10 +45,8 @@ RowSpectra row_spectra(int row_length, int rows, const RowFill& fill) {
     spectra.rows = rows;
     spectra.size = smooth_fft_size(2 * row_length);
     const int size = spectra.size, centre = row_length / 2;
-    // 1/(L K̂(q)) for q = j − c; K̂ is even, so one value serves ±q.
-    std::vector<double> deconvolution(std::max(centre, row_length - 1 - centre) + 1);
-    for (std::size_t q = 0; q < deconvolution.size(); ++q)
-        deconvolution[q] = 1.0 / (size * kernel_transform(static_cast<int>(q), size));
+    // For q = j − c; K̂ is even, so one value serves ±q.
+    const std::vector<double> inverse_transform = deconvolution(std::max(centre, row_length - 1 - centre) + 1, size);
     spectra.re.resize(static_cast<std::size_t>(size) * rows);
     spectra.im.resize(spectra.re.size());
     // One plan for every row, each row made and transformed in its thread's scratch (aligned like
@@ -62,8 +64,8 @@ RowSpectra row_spectra(int row_length, int rows, const RowFill& fill) {
             for (int m = 0; m < size; ++m) a[m][0] = a[m][1] = 0.0;
             for (int j = 0; j < row_length; ++j) {
                 const int q = j - centre, bin = q >= 0 ? q : size + q;
-                a[bin][0] = row[j].real() * deconvolution[std::abs(q)];
-                a[bin][1] = row[j].imag() * deconvolution[std::abs(q)];
+                a[bin][0] = row[j].real() * inverse_transform[std::abs(q)];
+                a[bin][1] = row[j].imag() * inverse_transform[std::abs(q)];
             }
             fftw_execute_dft(plan.get(), a, a);
         }
