@@ -43,7 +43,8 @@ RowSpectra row_spectra(int row_length, int rows, const RowFill& fill) {
     RowSpectra spectra;
     spectra.row_length = row_length;
     spectra.rows = rows;
-    spectra.size = smooth_fft_size(2 * row_length);
+    // Even, so that every row of a chunk (16·L bytes apart) keeps the planning buffer's alignment.
+    spectra.size = 2 * smooth_fft_size(row_length);
     const int size = spectra.size, centre = row_length / 2;
     // For q = j − c; K̂ is even, so one value serves ±q.
     const std::vector<double> inverse_transform = deconvolution(std::max(centre, row_length - 1 - centre) + 1, size);
@@ -79,16 +80,20 @@ RowSpectra row_spectra(int row_length, int rows, const RowFill& fill) {
 }
 
 SpectrumTaps spectrum_taps(const RowSpectra& spectra, double t) {
+    // S_k has period 1 in t: t − round(t) is exact and keeps t·L and t·c small, so that their
+    // rounding moves the result no more than the direct sum's own.
+    t -= std::nearbyint(t);
     SpectrumTaps taps;
     const double tl = t * spectra.size;
     const double half = 0.5 * kWidth;
-    for (long m = static_cast<long>(std::ceil(tl - half)); m <= tl + half; ++m) {
-        const long bin = m % spectra.size;
-        taps.bin[taps.count] = static_cast<int>(bin < 0 ? bin + spectra.size : bin);
+    for (int m = static_cast<int>(std::ceil(tl - half)); m <= tl + half; ++m) {
+        taps.bin[taps.count] = m < 0 ? m + spectra.size : m % spectra.size;
         taps.weight[taps.count] = kernel((tl - m) / half);
         ++taps.count;
     }
-    taps.phase = std::polar(1.0, -2.0 * pi * t * (spectra.row_length / 2));
+    // e^{−i2π t c} from t·c = p + e exactly (e by a fused multiply-add), p's whole cycles dropped.
+    const double c = spectra.row_length / 2, p = t * c, e = std::fma(t, c, -p);
+    taps.phase = std::polar(1.0, -2.0 * pi * ((p - std::nearbyint(p)) + e));
     return taps;
 }
 

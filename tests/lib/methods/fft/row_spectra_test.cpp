@@ -22,11 +22,13 @@ RowFill from(const std::vector<double>& re, const std::vector<double>& im, int l
 
 // Rows like R* under a Gaussian window (σ an eighth of the row, as the fft grid's 4σ half-width)
 // with random phases, so every frequency is reached; S_k(t) read from the spectra equals the
-// direct sum Σ_j r_kj e^{−i2πtj} (in long double) within 2e-14 Σ_j |r_kj|, at frequencies all
-// over the period, beyond it and negative, for an odd and an even row length.
+// direct sum Σ_j r_kj e^{−i2πtj} (in long double) within 3e-14 Σ_j |r_kj| (measured 0.6e-14 to
+// 1.5e-14, growing with the length), at frequencies all over the period, beyond it and negative,
+// for an odd and an even row length, and for 1093, where the smallest FFT-friendly size ≥ 2n
+// would be odd (3⁷), misaligning all but the first row of a chunk for the plan.
 TEST(RowSpectra, EqualTheDirectSumAtAnyFrequency) {
     const CounterRng rng(22, 1);
-    for (int length : {151, 200}) {
+    for (int length : {151, 200, 1093}) {
         const int rows = 3;
         std::vector<double> re(static_cast<std::size_t>(length) * rows), im(re.size());
         for (std::size_t i = 0; i < re.size(); ++i) {
@@ -54,7 +56,7 @@ TEST(RowSpectra, EqualTheDirectSumAtAnyFrequency) {
                     read += taps.weight[i] * std::complex<double>(spectra.re[at], spectra.im[at]);
                 }
                 read *= taps.phase;
-                EXPECT_LT(std::abs(read - std::complex<double>(direct)), 2e-14 * l1)
+                EXPECT_LT(std::abs(read - std::complex<double>(direct)), 3e-14 * l1)
                     << "length " << length << " row " << k << " t " << t;
             }
         }
