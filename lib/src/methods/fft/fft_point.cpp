@@ -186,8 +186,8 @@ private:
                 for (int j = 0; j < s.x.count; ++j)
                     row[j] = std::polar(s.weight[first + j], phase_per_height * s.height[first + j]);
             });
-            s.weight = {};
-            s.height = {};
+            s.weight = std::vector<double>();  // freed: `= {}` would keep the capacity
+            s.height = std::vector<double>();
         }
         const std::lock_guard lock(mutex_);
         recent_.push_back({omega_i, layer, grid});
