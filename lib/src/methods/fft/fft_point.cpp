@@ -122,11 +122,9 @@ private:
         const FootprintSamples& s = grid.samples;
         const int nx = s.x.count, ny = s.y.count;
         const bool kirchhoff = query_.model == DiffractionModel::kirchhoff;
-        std::vector<double> wave_re, wave_im, column_re, column_im, row_re, row_im;
+        std::vector<double> wave_re, wave_im, column_re, column_im, row_re(nx), row_im(nx);
         plane_wave(psi.x / lambda, s.x.step_um, nx, wave_re, wave_im);
         plane_wave(psi.y / lambda, s.y.step_um, ny, column_re, column_im);
-        row_re.resize(nx);
-        row_im.resize(nx);
         const double phase_per_height = -2.0 * pi * xi3 / lambda;
         std::complex<double> sums[3];
         for (int k = 0; k < ny; ++k) {
@@ -136,8 +134,7 @@ private:
                 row_re[j] = s.weight[first + j] * std::cos(angle);
                 row_im[j] = s.weight[first + j] * std::sin(angle);
             }
-            const double* r_re = row_re.data();
-            const double* r_im = row_im.data();
+            const double *r_re = row_re.data(), *r_im = row_im.data();
             const std::complex<double> row_wave(column_re[k], column_im[k]);
             sums[0] += row_wave * row_sum(r_re, r_im, wave_re.data(), wave_im.data(), nullptr, nx);
             if (kirchhoff) {
