@@ -46,7 +46,7 @@ void BM_FftLobe512SixteenWavelengths(benchmark::State& state) {
 BENCHMARK(BM_FftLobe512SixteenWavelengths)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
 // Yan 2018 eq. 6 at one direction over the footprint grid (fft_point), one wavelength, ω_i at
-// 20°, ω_o near its mirror direction; the grid of ω_i is made before the timing.
+// 20°, ω_o near its mirror direction; the grid of ω_i (its rows' spectra) is made before the timing.
 void BM_FftPointEval(benchmark::State& state) {
     glintscope::LobeQuery query = isotropic_query(64, {0.5});
     const glintscope::Vec3 omega_i = glintscope::direction_from_spherical(20.0 * glintscope::pi / 180.0, 0.3);
@@ -58,5 +58,18 @@ void BM_FftPointEval(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(point.eval(omega_i, directions[k++ & 63]));
 }
 BENCHMARK(BM_FftPointEval)->Unit(benchmark::kMicrosecond);
+
+// The same at an ω_i not seen before: its grid (heights and R* over the footprint, the rows'
+// spectra) made, then one eval. Real time: making the grid runs on the library's threads.
+void BM_FftPointNewIncidence(benchmark::State& state) {
+    glintscope::LobeQuery query = isotropic_query(64, {0.5});
+    const glintscope::PointAnswers point = glintscope::fft_point(query);
+    int k = 0;
+    for (auto _ : state) {
+        const glintscope::Vec3 omega_i = glintscope::direction_from_spherical(0.35, 0.01 * k++);
+        benchmark::DoNotOptimize(point.eval(omega_i, glintscope::direction_from_spherical(0.35, 0.01 * k + 3.0)));
+    }
+}
+BENCHMARK(BM_FftPointNewIncidence)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

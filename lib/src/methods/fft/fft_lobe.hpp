@@ -68,10 +68,13 @@ void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometr
 FootprintSamples layer_samples(const LobeQuery& query, const ScatteringGeometry& geometry, double lambda_um);
 
 // Yan 2018 eq. 6 at single directions (fft_point.cpp): for each ω_i and wavelength the grid of
-// layer_samples (made on first use; the 16 most recent are kept), then R̃*(ψ̄/λ) summed directly
-// over it, so that eval is the image's pixel at supersample 1 (to its chirp-z transforms'
-// rounding) for OHS and R-OHS. GHS, R-GHS and Kirchhoff use the exact ξ3 = ψ·n of each direction,
-// where the image interpolates between ξ3 nodes (within its phase_error).
+// layer_samples (made on first use; the 16 most recent are kept), then R̃*(ψ̄/λ) over it, so
+// that eval is the image's pixel at supersample 1 for OHS and R-OHS. There R* does not depend on
+// the direction: its rows are kept as their twice-oversampled spectra (row_spectra.hpp), and a
+// direction sums the 17 bins nearest ψ̄_x/λ of every row against the plane wave along y (the
+// plain sum over the grid to ~1e-14 of Σ|R*|, its own rounding; ~25x faster). GHS, R-GHS and
+// Kirchhoff sum the grid directly at the exact ξ3 = ψ·n of each direction, where the image
+// interpolates between ξ3 nodes (within its phase_error).
 // Its albedo is the image's disk sum at supersample 4 (the chirp-z transforms compute the same
 // quadrature of eval as the BSDF's rule, bsdf.hpp, far faster than eval at each sub-pixel).
 PointAnswers fft_point(const LobeQuery& query);

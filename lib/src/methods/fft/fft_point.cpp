@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fft_lobe.hpp"
+#include "row_spectra.hpp"
 #include "glintscope/lobe/image.hpp"
 #include "glintscope/optics/material.hpp"
 
@@ -17,12 +18,14 @@
 namespace glintscope {
 namespace {
 
-// One incidence's grid for one wavelength: the samples, and at constant ξ3 = 2 (OHS, R-OHS)
-// R*(s) = w e^{−i2π ξ3 (H − H̄)/λ} itself (Yan 2018 eq. 1, 4), as real and imaginary parts.
+// One incidence's grid for one wavelength. At constant ξ3 = 2 (OHS, R-OHS) R*(s) =
+// w e^{−i2π ξ3 (H − H̄)/λ} (Yan 2018 eq. 1, 4) is the same for every direction: its rows are kept
+// as their oversampled spectra, each direction reading 17 bins per row instead of every sample,
+// and of the samples only the axes are kept. Otherwise (ξ3 = ψ·n) the samples, R* made per
+// direction.
 struct IncidenceGrid {
     FootprintSamples samples;
-    std::vector<double> re;
-    std::vector<double> im;
+    RowSpectra spectra;  // OHS, R-OHS
 };
 
 // e^{−i2π f (j·step)} for j < count, as real and imaginary parts, without a sincos per sample:
@@ -115,28 +118,23 @@ private:
     // Σ_s R*(s) e^{−i2π ψ̄·s/λ} over the grid (s from its first sample); Kirchhoff's ξ2 as in the
     // image: T0 − (ψ̄_x T_x + ψ̄_y T_y)/(ψ·n), T_x and T_y the sums of H_x R* and H_y R*.
     std::complex<double> transform(const IncidenceGrid& grid, Vec3 psi, double xi3, double lambda) const {
+        if (!grid.spectra.re.empty()) return transform_of_spectra(grid, psi, lambda);
         const FootprintSamples& s = grid.samples;
         const int nx = s.x.count, ny = s.y.count;
         const bool kirchhoff = query_.model == DiffractionModel::kirchhoff;
-        std::vector<double> wave_re, wave_im, column_re, column_im, row_re, row_im;
+        std::vector<double> wave_re, wave_im, column_re, column_im, row_re(nx), row_im(nx);
         plane_wave(psi.x / lambda, s.x.step_um, nx, wave_re, wave_im);
         plane_wave(psi.y / lambda, s.y.step_um, ny, column_re, column_im);
-        if (grid.re.empty()) {
-            row_re.resize(nx);
-            row_im.resize(nx);
-        }
         const double phase_per_height = -2.0 * pi * xi3 / lambda;
         std::complex<double> sums[3];
         for (int k = 0; k < ny; ++k) {
             const std::size_t first = static_cast<std::size_t>(k) * nx;
-            const double* r_re = grid.re.empty() ? row_re.data() : &grid.re[first];
-            const double* r_im = grid.re.empty() ? row_im.data() : &grid.im[first];
-            if (grid.re.empty())
-                for (int j = 0; j < nx; ++j) {
-                    const double angle = phase_per_height * s.height[first + j];
-                    row_re[j] = s.weight[first + j] * std::cos(angle);
-                    row_im[j] = s.weight[first + j] * std::sin(angle);
-                }
+            for (int j = 0; j < nx; ++j) {
+                const double angle = phase_per_height * s.height[first + j];
+                row_re[j] = s.weight[first + j] * std::cos(angle);
+                row_im[j] = s.weight[first + j] * std::sin(angle);
+            }
+            const double *r_re = row_re.data(), *r_im = row_im.data();
             const std::complex<double> row_wave(column_re[k], column_im[k]);
             sums[0] += row_wave * row_sum(r_re, r_im, wave_re.data(), wave_im.data(), nullptr, nx);
             if (kirchhoff) {
@@ -145,6 +143,24 @@ private:
             }
         }
         return kirchhoff ? sums[0] - (psi.x * sums[1] + psi.y * sums[2]) / psi.z : sums[0];
+    }
+
+    // The same sum from the rows' spectra: Σ_k e^{−i2π ψ̄_y y_k/λ} S_k(ψ̄_x h_x/λ), S_k the
+    // transform of row k (row_spectra.hpp), read as Σ over its taps of weight · (that bin of every
+    // row, summed against the column's plane wave).
+    static std::complex<double> transform_of_spectra(const IncidenceGrid& grid, Vec3 psi, double lambda) {
+        const FootprintSamples& s = grid.samples;
+        const RowSpectra& spectra = grid.spectra;
+        std::vector<double> column_re, column_im;
+        plane_wave(psi.y / lambda, s.y.step_um, s.y.count, column_re, column_im);
+        const SpectrumTaps taps = spectrum_taps(spectra, psi.x / lambda * s.x.step_um);
+        std::complex<double> sum;
+        for (int i = 0; i < taps.count; ++i) {
+            const std::size_t first = static_cast<std::size_t>(taps.bin[i]) * spectra.rows;
+            sum += taps.weight[i] *
+                   row_sum(&spectra.re[first], &spectra.im[first], column_re.data(), column_im.data(), nullptr, spectra.rows);
+        }
+        return taps.phase * sum;
     }
 
     // The grid of (ω_i, wavelength), made on first use outside the lock (two threads may both
@@ -160,14 +176,15 @@ private:
         auto grid = std::make_shared<IncidenceGrid>();
         grid->samples = layer_samples(query_, {omega_i, 1.0}, lambda);
         if (!phase_depends_on_outgoing(query_.model)) {
-            const FootprintSamples& s = grid->samples;
+            FootprintSamples& s = grid->samples;
             const double phase_per_height = -2.0 * pi * 2.0 / lambda;
-            grid->re.resize(s.weight.size());
-            grid->im.resize(s.weight.size());
-            for (std::size_t i = 0; i < s.weight.size(); ++i) {
-                grid->re[i] = s.weight[i] * std::cos(phase_per_height * s.height[i]);
-                grid->im[i] = s.weight[i] * std::sin(phase_per_height * s.height[i]);
-            }
+            grid->spectra = row_spectra(s.x.count, s.y.count, [&](std::size_t k, std::complex<double>* row) {
+                const std::size_t first = k * s.x.count;
+                for (int j = 0; j < s.x.count; ++j)
+                    row[j] = std::polar(s.weight[first + j], phase_per_height * s.height[first + j]);
+            });
+            s.weight = std::vector<double>();  // freed: `= {}` would keep the capacity
+            s.height = std::vector<double>();
         }
         const std::lock_guard lock(mutex_);
         recent_.push_back({omega_i, layer, grid});
