@@ -145,7 +145,7 @@ private:
     // The first and last cells of [lo, hi] in row `row` (its first cell's index) that the scan
     // keeps: two scans in from the ends that stop at the first kept cell. False when none is kept.
     template <typename Keep>
-    [[gnu::always_inline]] bool kept_span(const Scan<Keep>& scan, std::size_t row, int lo, int hi, int& first, int& last) const;
+    [[gnu::always_inline]] inline bool kept_span(const Scan<Keep>& scan, std::size_t row, int lo, int hi, int& first, int& last) const;
     // Kernels of cells [first, last] of a row.
     std::size_t cells_begin(std::size_t row, int first) const { return starts_[row + first]; }
     std::size_t cells_end(std::size_t row, int last) const { return starts_[row + last + 1]; }
@@ -211,7 +211,7 @@ inline bool SlopeIndex::narrow_row(const Reach& scan, double inverse_t, int j, i
 }
 
 template <typename Keep>
-bool SlopeIndex::kept_span(const Scan<Keep>& scan, std::size_t row, int lo, int hi, int& first, int& last) const {
+inline bool SlopeIndex::kept_span(const Scan<Keep>& scan, std::size_t row, int lo, int hi, int& first, int& last) const {
     first = lo;
     while (first <= hi && !scan.keep(bounds_[row + first], row + first)) ++first;
     if (first > hi) return false;
