@@ -130,8 +130,8 @@ template <typename T>
 
 // A second-order term from its prepared factors (ChirpFactors): u = v + a_k, q = uᵀAu,
 // w l² ξ2 det(M)^{−1/2} e^{−Re q} e^{−i2π(ξ3 H_k/λ + m_k·v + Im q/(2π))}, cut at its widened reach;
-// and norm e^{−Re q} where Re q < 25 added to `density` (the kernel's cut sampling Gaussian, whose
-// exponent is Re q: sum_transforms_and_density). `SlopeFactor`: ξ2 depends on H' (Kirchhoff),
+// and norm e^{−Re q} where Re q < density_cut added to `density` (the kernel's cut sampling
+// Gaussian, whose exponent is Re q: sum_transforms_and_density). `SlopeFactor`: ξ2 depends on H' (Kirchhoff),
 // else ξ2 = 1 and the term skips it.
 template <typename T, bool WithDensity, bool SlopeFactor>
 [[gnu::always_inline]] inline void add_prepared_chirped_term(const T& px, const T& py, const T& height,
@@ -139,8 +139,8 @@ template <typename T, bool WithDensity, bool SlopeFactor>
                                                              const T& axx_im, const T& axy_re, const T& axy_im,
                                                              const T& ayy_re, const T& ayy_im, const T& f_re,
                                                              const T& f_im, const T& reach2, const T& norm,
-                                                             const TransformPoint& point, T& sum_re, T& sum_im,
-                                                             T& density) {
+                                                             double density_cut, const TransformPoint& point,
+                                                             T& sum_re, T& sum_im, T& density) {
     const T ux = point.vx + point.xi3_over_lambda * slope_x;  // v + a_k (Yan 2018 eq. 15)
     const T uy = point.vy + point.xi3_over_lambda * slope_y;
     const T ux2 = ux * ux;
@@ -152,7 +152,7 @@ template <typename T, bool WithDensity, bool SlopeFactor>
     const T gaussian = gabor_math::exp_neg(min_of(q_re, T{} + 25.0));
     T amplitude = gaussian;
     if constexpr (SlopeFactor) amplitude *= 1.0 - point.xi2_gx * slope_x - point.xi2_gy * slope_y;
-    if constexpr (WithDensity) density += (q_re < 25.0 ? norm : T{} * 0.0) * gaussian;
+    if constexpr (WithDensity) density += (q_re < density_cut ? norm : T{} * 0.0) * gaussian;
     T cos_phase;
     T sin_phase;
     gabor_math::cos_sin_turns(point.xi3_over_lambda * height + px * point.vx + py * point.vy + (0.5 / pi) * q_im,
@@ -164,10 +164,10 @@ template <typename T, bool WithDensity, bool SlopeFactor>
 }
 
 // The prepared terms of the runs' kernels into re, im and, with the norms (`WithDensity`), the
-// sampling density into `density`.
+// sampling density (cut at density_cut) into `density`.
 template <bool WithDensity, bool SlopeFactor>
 [[gnu::always_inline]] inline void sum_prepared_terms(const KernelArrays& k, const ChirpFactors& c, const double* norm,
-                                                      const KernelRun* runs, std::size_t run_count,
+                                                      double density_cut, const KernelRun* runs, std::size_t run_count,
                                                       const TransformPoint& point, double& out_re, double& out_im,
                                                       double& density) {
     const auto add = [&](std::size_t i, auto& re, auto& im, auto& d) __attribute__((always_inline)) {
@@ -177,8 +177,8 @@ template <bool WithDensity, bool SlopeFactor>
             lanes<T>(&k.px[i]), lanes<T>(&k.py[i]), lanes<T>(&k.height[i]), lanes<T>(&k.slope_x[i]),
             lanes<T>(&k.slope_y[i]), lanes<T>(&c.a_xx_re[i]), lanes<T>(&c.a_xx_im[i]), lanes<T>(&c.a_xy_re[i]),
             lanes<T>(&c.a_xy_im[i]), lanes<T>(&c.a_yy_re[i]), lanes<T>(&c.a_yy_im[i]), lanes<T>(&c.f_re[i]),
-            lanes<T>(&c.f_im[i]), lanes<T>(&c.reach2[i]), WithDensity ? lanes<T>(norm + i) : T{} * 0.0, point, re, im,
-            d);
+            lanes<T>(&c.f_im[i]), lanes<T>(&c.reach2[i]), WithDensity ? lanes<T>(norm + i) : T{} * 0.0, density_cut, point,
+            re, im, d);
     };
     for (std::size_t r = 0; r < run_count; ++r) {
         double re = 0.0, im = 0.0, d = 0.0;
@@ -194,20 +194,20 @@ void sum_prepared_chirped_terms(const KernelArrays& k, const ChirpFactors& c, co
                                 std::size_t run_count, const TransformPoint& point, double& out_re, double& out_im) {
     double unused = 0.0;
     if (point.xi2_gx == 0.0 && point.xi2_gy == 0.0)
-        sum_prepared_terms<false, false>(k, c, nullptr, runs, run_count, point, out_re, out_im, unused);
+        sum_prepared_terms<false, false>(k, c, nullptr, 0.0, runs, run_count, point, out_re, out_im, unused);
     else
-        sum_prepared_terms<false, true>(k, c, nullptr, runs, run_count, point, out_re, out_im, unused);
+        sum_prepared_terms<false, true>(k, c, nullptr, 0.0, runs, run_count, point, out_re, out_im, unused);
 }
 
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 void sum_prepared_chirped_terms_and_density(const KernelArrays& k, const ChirpFactors& c, const double* norm,
-                                            const KernelRun* runs, std::size_t run_count,
+                                            double density_cut, const KernelRun* runs, std::size_t run_count,
                                             const TransformPoint& point, double& out_re, double& out_im,
                                             double& density) {
     if (point.xi2_gx == 0.0 && point.xi2_gy == 0.0)
-        sum_prepared_terms<true, false>(k, c, norm, runs, run_count, point, out_re, out_im, density);
+        sum_prepared_terms<true, false>(k, c, norm, density_cut, runs, run_count, point, out_re, out_im, density);
     else
-        sum_prepared_terms<true, true>(k, c, norm, runs, run_count, point, out_re, out_im, density);
+        sum_prepared_terms<true, true>(k, c, norm, density_cut, runs, run_count, point, out_re, out_im, density);
 }
 
 __attribute__((target_clones("arch=x86-64-v3", "default")))
@@ -396,11 +396,12 @@ std::complex<double> sum_transforms(const KernelArrays& kernels, const ChirpFact
 }
 
 std::complex<double> sum_transforms_and_density(const KernelArrays& kernels, const ChirpFactors& factors,
-                                                const double* norm, const std::vector<KernelRun>& runs,
-                                                const TransformPoint& point, double& density) {
+                                                const double* norm, double density_cut,
+                                                const std::vector<KernelRun>& runs, const TransformPoint& point,
+                                                double& density) {
     double re = 0.0;
     double im = 0.0;
-    sum_prepared_chirped_terms_and_density(kernels, factors, norm, runs.data(), runs.size(), point, re, im, density);
+    sum_prepared_chirped_terms_and_density(kernels, factors, norm, density_cut, runs.data(), runs.size(), point, re, im, density);
     return {re, im};
 }
 

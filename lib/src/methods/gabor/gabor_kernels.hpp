@@ -267,13 +267,14 @@ struct KernelRun {
 std::complex<double> sum_transforms(const KernelArrays& kernels, const ChirpFactors& factors,
                                     const std::vector<KernelRun>& runs, const TransformPoint& point);
 
-// That sum, and in the same pass Σ norm_k e^{−Re q_k} over the same kernels where Re q_k < 25,
-// added to `density`: where the sampler's ξ3 is the point's (OHS, R-OHS), Re q_k = β uᵀRe(M⁻¹)u
+// That sum, and in the same pass Σ norm_k e^{−Re q_k} over the same kernels where
+// Re q_k < density_cut (≤ 25), added to `density`: where the sampler's ξ3 is the point's (OHS, R-OHS), Re q_k = β uᵀRe(M⁻¹)u
 // is the exponent of kernel k's sampling Gaussian at d = λv − ω̄_i, so with norm_k its weight over
 // its normalisation (gabor_sampling.hpp) this is the mixture's density from these kernels, and
 // the two sums share each kernel's exponential.
 std::complex<double> sum_transforms_and_density(const KernelArrays& kernels, const ChirpFactors& factors,
-                                                const double* norm, const std::vector<KernelRun>& runs,
-                                                const TransformPoint& point, double& density);
+                                                const double* norm, double density_cut,
+                                                const std::vector<KernelRun>& runs, const TransformPoint& point,
+                                                double& density);
 
 }  // namespace glintscope::gabor

@@ -5,6 +5,7 @@
 // are the footprint's kernel mixture (gabor_sampling.hpp) over the footprint's slope index in
 // both; at one footprint a sample also brings f_r, computed in the same pass as its pdf.
 #include <cmath>
+#include <complex>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -45,34 +46,42 @@ std::vector<double> indexed_f_r(const gabor::SlopeIndex& index, DiffractionModel
 }
 
 // A sample of the footprint's mixture with f_r at its direction. Where the mixture's Gaussians
-// share their exponents with the kernels' transforms (shared_norms), one pass over the kernels
-// that eval sums gives f_r and their part of the pdf, each kernel's exponential computed once,
-// and the pdf adds its other kernels; elsewhere the pdf alone, and the BSDF evaluates f_r.
+// share their exponents with the kernels' transforms (shared_norms: OHS, R-OHS), one scan of the
+// index's cells finds the kernels eval sums and the pdf's others; at second order one pass over
+// the first gives f_r and their part of the pdf, each kernel's exponential computed once, and the
+// pdf adds its others. Elsewhere the pdf alone, and the BSDF evaluates f_r.
 EvaluatedSample sample_with_f_r(const gabor::SlopeIndex& index, const gabor::KernelMixture& mixture,
                                 DiffractionModel model, const MaterialChoice& material, double area_um2,
                                 const std::vector<double>& wavelengths_um, Vec3 omega_i, double u1, double u2) {
     const std::optional<Vec3> omega_o = mixture.draw(omega_i, u1, u2);
     if (!omega_o) return {};
     if (!mixture.shared_norms(0)) return {{*omega_o, mixture.pdf(omega_i, *omega_o)}, {}};
-    const std::size_t layers = wavelengths_um.size();
-    std::vector<double> density(layers, 0.0);
-    std::vector<std::vector<gabor::KernelRun>> summed(layers);
-    std::vector<double> f_r(layers, 0.0);
-    for (std::size_t layer = 0; layer < layers; ++layer) {
+    // Reused by each thread: no allocation per call.
+    thread_local std::vector<gabor::KernelRun> transform_runs;
+    thread_local std::vector<gabor::KernelRun> other_runs;
+    std::vector<double> f_r(wavelengths_um.size(), 0.0);
+    double density = 0.0;
+    for (std::size_t layer = 0; layer < wavelengths_um.size(); ++layer) {
         const double lambda = wavelengths_um[layer];
         const gabor::TransformPoint point = gabor::transform_point(model, gabor::FresnelAtWavelength(material, lambda),
                                                                    omega_i, *omega_o, lambda, area_um2);
-        const gabor::ChirpFactors* factors = index.reaching_runs(point, summed[layer]);
+        transform_runs.clear();
+        other_runs.clear();
+        const gabor::ChirpFactors* factors =
+            mixture.split_runs(omega_i, *omega_o, layer, point, transform_runs, other_runs);
+        std::complex<double> sum = 0.0;
         if (factors) {
-            f_r[layer] = point.brdf_scale * std::norm(gabor::sum_transforms_and_density(
-                                                index.kernels(), *factors, mixture.shared_norms(layer), summed[layer],
-                                                point, density[layer]));
-        } else {  // the pdf sums these kernels itself
-            f_r[layer] = point.brdf_scale * std::norm(index.sum(point));
-            summed[layer].clear();
+            sum = gabor::sum_transforms_and_density(index.kernels(), *factors, mixture.shared_norms(layer),
+                                                    mixture.cut(), transform_runs, point, density);
+        } else {  // first order: the terms, then their Gaussians
+            for (const gabor::KernelRun& run : transform_runs)
+                sum += gabor::sum_transforms(index.kernels(), run.begin, run.end, point, index.grid());
+            density += mixture.layer_density(omega_i, *omega_o, layer, transform_runs);
         }
+        f_r[layer] = point.brdf_scale * std::norm(sum);
+        density += mixture.layer_density(omega_i, *omega_o, layer, other_runs);
     }
-    return {{*omega_o, mixture.pdf_completing(omega_i, *omega_o, density, summed)}, std::move(f_r)};
+    return {{*omega_o, mixture.pdf_of_density(density, *omega_o)}, std::move(f_r)};
 }
 
 }  // namespace

@@ -12,30 +12,37 @@
 namespace glintscope::gabor {
 namespace {
 
-// Each Gaussian is cut where it falls to e^{−kCut} of its peak (Mahalanobis radius √(2 kCut)),
-// the range of gabor_math::exp_neg; it keeps 1 − e^{−kCut} of its mass.
-constexpr double kCut = 25.0;
-const double kKeptMass = -std::expm1(-kCut);
+// The cut of the mixture's Gaussians, ½eᵀS⁻¹e < cut (Mahalanobis radius √(2 cut)), within
+// gabor_math::exp_neg's range (25). Where the sampler's ξ3 is the model's (OHS, R-OHS) a kernel's
+// Gaussian is its transform's magnitude e^{−Re q}, Re q = β uᵀ(I + E²)⁻¹u ≤ β|u|², so the cut
+// 2βR² = kernel_sigmas² holds the kernel's whole box |u_x|, |u_y| ≤ R (its corners' Re q ≤ 2βR²),
+// and at second order all of the widened box where the transform is above e^{−cut} of its peak:
+// every d the kernel adds to f_r. Other models place the Gaussians with the mirror direction's ξ3,
+// off the transforms' peaks, and keep the widest cut for that slack.
+double gaussian_cut(const KernelGrid& grid, DiffractionModel model) {
+    constexpr double widest = 25.0;
+    return phase_depends_on_outgoing(model) ? widest : std::min(widest, 2.0 * grid.beta * grid.reach * grid.reach);
+}
 
 struct Covariance {
     double xx, xy, yy;
     double det() const { return xx * yy - xy * xy; }
 };
 
-// Σ_k norm_k e^{−q_k/2} over the Gaussians' q_k = (e − μ_k)ᵀ S_k⁻¹ (e − μ_k) < 2 kCut, with
+// Σ_k norm_k e^{−q_k/2} over the Gaussians' q_k = (e − μ_k)ᵀ S_k⁻¹ (e − μ_k) < 2 cut, with
 // e − μ_k = (px, py) + ξ3 H'_k, over the kernels of the runs, indices from `first` (where the
 // arrays start; the tail's lanes may read kernels before a run).
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 double sum_cut_gaussians(const double* slope_x, const double* slope_y, const double* qxx, const double* qxy,
-                         const double* qyy, const double* norm, std::size_t first, const KernelRun* runs,
-                         std::size_t run_count, double px, double py, double xi) {
+                         const double* qyy, const double* norm, double cut, std::size_t first,
+                         const KernelRun* runs, std::size_t run_count, double px, double py, double xi) {
     const auto add = [&](std::size_t k, auto& sum, auto&, auto&) __attribute__((always_inline)) {
         using T = std::decay_t<decltype(sum)>;
         const T ex = px + xi * gabor_math::lanes<T>(slope_x + k);
         const T ey = py + xi * gabor_math::lanes<T>(slope_y + k);
         const T half_q = gabor_math::lanes<T>(qxx + k) * ex * ex + gabor_math::lanes<T>(qxy + k) * ex * ey + gabor_math::lanes<T>(qyy + k) * ey * ey;
-        const T kept = half_q < kCut ? gabor_math::lanes<T>(norm + k) : T{} * 0.0;
-        sum += kept * gabor_math::exp_neg(half_q < kCut ? half_q : T{} + kCut);
+        const T kept = half_q < cut ? gabor_math::lanes<T>(norm + k) : T{} * 0.0;
+        sum += kept * gabor_math::exp_neg(half_q < cut ? half_q : T{} + cut);
     };
     double total = 0.0;
     for (std::size_t r = 0; r < run_count; ++r) {
@@ -47,26 +54,6 @@ double sum_cut_gaussians(const double* slope_x, const double* slope_y, const dou
     return total;
 }
 
-// The square of the distance from 0 to the box [x_min, x_max] × [y_min, y_max].
-double distance2_to_box(double x_min, double x_max, double y_min, double y_max) {
-    const double x = x_min > 0.0 ? x_min : x_max < 0.0 ? x_max : 0.0;
-    const double y = y_min > 0.0 ? y_min : y_max < 0.0 ? y_max : 0.0;
-    return x * x + y * y;
-}
-
-// Calls add(b, e) for the parts of [begin, end) outside the runs (sorted, disjoint).
-template <typename Add>
-void for_each_part_outside(std::size_t begin, std::size_t end, const std::vector<KernelRun>& runs, const Add& add) {
-    for (const auto& [run_begin, run_end] : runs) {
-        if (run_end <= begin) continue;
-        if (run_begin >= end) break;
-        if (run_begin > begin) add(begin, run_begin);
-        begin = run_end;
-        if (begin >= end) return;
-    }
-    if (begin < end) add(begin, end);
-}
-
 }  // namespace
 
 KernelMixture::KernelMixture(std::shared_ptr<const SlopeIndex> index, DiffractionModel model,
@@ -75,7 +62,9 @@ KernelMixture::KernelMixture(std::shared_ptr<const SlopeIndex> index, Diffractio
       model_(model),
       wavelengths_um_(std::move(wavelengths_um)),
       sigma_um_(index_->grid().sigma_um),
-      chirped_(index_->grid().order == 2) {
+      chirped_(index_->grid().order == 2),
+      cut_(gaussian_cut(index_->grid(), model)),
+      kept_mass_(-std::expm1(-cut_)) {
     const KernelArrays& kernels = index_->kernels();
     const std::size_t n = kernels.size();
     double total = 0.0;
@@ -129,7 +118,7 @@ KernelMixture::Gaussians KernelMixture::gaussians(double lambda_um, double curva
         g.qxy[k - first] = -s.xy / det;
         g.qyy[k - first] = 0.5 * s.xx / det;
         // The Gaussian's normalisation 1/(2π √det S), over the mass the cut keeps.
-        g.norm[k - first] = probability_[k] / (2.0 * pi * std::sqrt(det) * kKeptMass);
+        g.norm[k - first] = probability_[k] / (2.0 * pi * std::sqrt(det) * kept_mass_);
     }
     return g;
 }
@@ -138,7 +127,8 @@ double KernelMixture::sum_gaussians(const Gaussians& g, const std::vector<Kernel
                                     double xi) const {
     const KernelArrays& kernels = index_->kernels();
     return sum_cut_gaussians(kernels.slope_x.data() + g.first, kernels.slope_y.data() + g.first, g.qxx.data(),
-                             g.qxy.data(), g.qyy.data(), g.norm.data(), g.first, runs.data(), runs.size(), px, py, xi);
+                             g.qxy.data(), g.qyy.data(), g.norm.data(), cut_, g.first, runs.data(), runs.size(), px, py,
+                             xi);
 }
 
 std::optional<Vec3> KernelMixture::draw(Vec3 omega_i, double u1, double u2) const {
@@ -151,8 +141,8 @@ std::optional<Vec3> KernelMixture::draw(Vec3 omega_i, double u1, double u2) cons
         std::upper_bound(cumulative_.begin(), cumulative_.end(), u) - cumulative_.begin(), cumulative_.size() - 1);
     const double below = k == 0 ? 0.0 : cumulative_[k - 1];
     const double rest = std::clamp((u - below) / probability_[k], 0.0, 1.0);
-    // Box–Muller with the radius cut at √(2 kCut): r² = −2 ln(1 − rest · kept mass).
-    const double radius = std::sqrt(-2.0 * std::log1p(-rest * kKeptMass));
+    // Box–Muller with the radius cut at √(2 cut): r² = −2 ln(1 − rest · kept mass).
+    const double radius = std::sqrt(-2.0 * std::log1p(-rest * kept_mass_));
     const double z1 = radius * std::cos(2.0 * pi * u2);
     const double z2 = radius * std::sin(2.0 * pi * u2);
     const double diffraction = diffraction_variance(wavelengths_um_[layer]);
@@ -181,53 +171,52 @@ const double* KernelMixture::shared_norms(std::size_t layer) const {
     return fixed_.empty() || phase_depends_on_outgoing(model_) ? nullptr : fixed_[layer].norm.data();
 }
 
-double KernelMixture::pdf(Vec3 omega_i, Vec3 omega_o) const { return pdf_completing(omega_i, omega_o, {}, {}); }
+SlopeIndex::DiskReach KernelMixture::disk_reach(Vec3 omega_i, Vec3 omega_o, std::size_t layer, double margin2) const {
+    // Kernel k's cut keeps eᵀS_k⁻¹e < 2 cut, which lies in the disk |e|² < 2 cut λ_max(S_k),
+    // λ_max(S_k) = diffraction + curvature ρ(H''_k)², with e = d − μ_k = (ω_o + ω_i)_xy + ξ3 H'_k.
+    const double scale = margin2 * 2.0 * cut_;
+    return {omega_o.x + omega_i.x, omega_o.y + omega_i.y, sampling_xi3(omega_i),
+            scale * diffraction_variance(wavelengths_um_[layer]), scale * curvature_scale(omega_i)};
+}
 
-double KernelMixture::pdf_completing(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& summed_density,
-                                     const std::vector<std::vector<KernelRun>>& summed) const {
+double KernelMixture::pdf(Vec3 omega_i, Vec3 omega_o) const {
+    constexpr double margin2 = SlopeIndex::kReachMargin * SlopeIndex::kReachMargin;
+    // Reused by each thread: no allocation per call.
+    thread_local std::vector<KernelRun> runs;
+    double density = 0.0;
+    for (std::size_t layer = 0; layer < wavelengths_um_.size(); ++layer) {
+        runs.clear();
+        index_->disk_runs(disk_reach(omega_i, omega_o, layer, margin2), runs);
+        density += layer_density(omega_i, omega_o, layer, runs);
+    }
+    return pdf_of_density(density, omega_o);
+}
+
+const ChirpFactors* KernelMixture::split_runs(Vec3 omega_i, Vec3 omega_o, std::size_t layer,
+                                              const TransformPoint& point, std::vector<KernelRun>& transform_runs,
+                                              std::vector<KernelRun>& other_runs) const {
+    // The disk circumscribes the point's boxes exactly (cut = kernel_sigmas²: gaussian_cut); widened
+    // by the margin once more, rounding never leaves a cell that the transform sum keeps outside it.
+    constexpr double m = SlopeIndex::kReachMargin;
+    return index_->reaching_runs(point, disk_reach(omega_i, omega_o, layer, m * m * m * m), transform_runs,
+                                 other_runs);
+}
+
+double KernelMixture::layer_density(Vec3 omega_i, Vec3 omega_o, std::size_t layer,
+                                    const std::vector<KernelRun>& runs) const {
     const double xi = sampling_xi3(omega_i);
     // e = d − μ_k = (ω_o + ω_i)_xy + ξ3 H'_k.
     const double px = omega_o.x + omega_i.x, py = omega_o.y + omega_i.y;
+    if (!fixed_.empty()) return sum_gaussians(fixed_[layer], runs, px, py, xi);
+    // Covariances made per call: only for the kernels summed.
     const double curvature = curvature_scale(omega_i);
     double density = 0.0;
-    for (std::size_t layer = 0; layer < wavelengths_um_.size(); ++layer) {
-        const double lambda = wavelengths_um_[layer];
-        // Kernel k's cut keeps eᵀS_k⁻¹e < 2 kCut, which lies in the disk |e|² < 2 kCut λ_max(S_k),
-        // λ_max(S_k) = diffraction + curvature ρ(H''_k)²; so a cell can hold a kernel that reaches
-        // d only if its slope box, mapped to e, meets the disk of its largest ρ(H'').
-        const double diffraction = diffraction_variance(lambda);
-        const auto reach2 = [&](double radius) {
-            constexpr double margin2 = SlopeIndex::kReachMargin * SlopeIndex::kReachMargin;
-            return margin2 * 2.0 * kCut * (diffraction + curvature * radius * radius);
-        };
-        const auto keep = [&](const SlopeIndex::CellBounds& b, std::size_t) {
-            return distance2_to_box(px + xi * b.x_min, px + xi * b.x_max, py + xi * b.y_min, py + xi * b.y_max) <=
-                   reach2(b.radius);
-        };
-        // The kernels to sum, as runs (parts of the reaching cells' runs that `summed` leaves).
-        thread_local std::vector<KernelRun> parts;
-        parts.clear();
-        const auto add_part = [&](std::size_t begin, std::size_t end) { parts.push_back({begin, end}); };
-        const auto add_run = [&](std::size_t begin, std::size_t end) {
-            if (summed.empty())
-                add_part(begin, end);
-            else
-                for_each_part_outside(begin, end, summed[layer], add_part);
-        };
-        const double widest = std::sqrt(reach2(index_->largest_radius()));
-        if (index_->within_reach_of_all(px, py, xi, widest))
-            add_run(0, index_->kernels().size());
-        else
-            index_->for_each_run(px, py, xi, widest, keep, add_run, true);
-        if (!summed_density.empty()) density += summed_density[layer];
-        if (!fixed_.empty()) {
-            density += sum_gaussians(fixed_[layer], parts, px, py, xi);
-            continue;
-        }
-        // Covariances made per call: only for the kernels summed.
-        for (const KernelRun& part : parts)
-            density += sum_gaussians(gaussians(lambda, curvature, part.begin, part.end), {part}, px, py, xi);
-    }
+    for (const KernelRun& run : runs)
+        density += sum_gaussians(gaussians(wavelengths_um_[layer], curvature, run.begin, run.end), {run}, px, py, xi);
+    return density;
+}
+
+double KernelMixture::pdf_of_density(double density, Vec3 omega_o) const {
     // The mean over wavelengths, and dA = cosθ_o dω_o.
     return density / wavelengths_um_.size() * omega_o.z;
 }

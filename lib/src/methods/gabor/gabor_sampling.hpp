@@ -19,7 +19,7 @@ namespace glintscope::gabor {
 // the kernel's transform, |F[g_k](v)| at v = (ω̄_i + d)/λ:
 //   mean −ω̄_i − ξ3 H'_k,   covariance λ²/(4π²σ_k²) I + σ_k² ξ3² (H''_k)²
 // (H'' = 0 at first order; ξ3 of the model at ω_i's mirror direction), cut where it falls to
-// e^{−25} of its peak. The pdf per solid angle is cosθ_o times the mixture's density in d, a
+// e^{−cut()} of its peak. The pdf per solid angle is cosθ_o times the mixture's density in d, a
 // sum over the kernels whose cut Gaussian holds d: those of the cells of the footprint's slope
 // index (which orders the kernels by H'_k, so by their means) that can reach d; d outside the
 // unit disk is no direction (pdf 0).
@@ -37,10 +37,19 @@ public:
     // `layer` (OHS, R-OHS: fixed ξ3 and covariances; sum_transforms_and_density), the Gaussians'
     // norm_k (in the index's order) that turn them into this layer's density; else null.
     const double* shared_norms(std::size_t layer) const;
-    // pdf() of ω_o given, per layer, the density already summed over the kernel runs `summed`
-    // (sorted, disjoint), which it leaves out of its own sums. Empty vectors: nothing summed.
-    double pdf_completing(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& summed_density,
-                          const std::vector<std::vector<KernelRun>>& summed) const;
+    // Each Gaussian is cut where its exponent ½eᵀS⁻¹e reaches this: kernel_sigmas² where the
+    // sampler's ξ3 is the model's (OHS, R-OHS; the cut then holds each kernel's box), else 25.
+    double cut() const { return cut_; }
+    // For a sample that computes f_r too (gabor_point.cpp), where shared_norms(layer): the slope
+    // index's reaching_runs of the layer's transform point at ω_o (returning its chirp factors)
+    // and, from the same scan of the cells, the runs of the other kernels whose Gaussians pdf()
+    // sums at ω_o.
+    const ChirpFactors* split_runs(Vec3 omega_i, Vec3 omega_o, std::size_t layer, const TransformPoint& point,
+                                   std::vector<KernelRun>& transform_runs, std::vector<KernelRun>& other_runs) const;
+    // Σ_k norm_k e^{−½q_k} of the query's wavelength `layer` at ω_o over the kernels of the runs.
+    double layer_density(Vec3 omega_i, Vec3 omega_o, std::size_t layer, const std::vector<KernelRun>& runs) const;
+    // The pdf per solid angle of ω_o whose layers' densities sum to `density`.
+    double pdf_of_density(double density, Vec3 omega_o) const;
 
 private:
     // Per kernel of [first, first + size), the Gaussian of one wavelength and curvature scale:
@@ -55,6 +64,9 @@ private:
     // e = (px, py) + ξ3 H'_k.
     double sum_gaussians(const Gaussians& g, const std::vector<KernelRun>& runs, double px, double py,
                          double xi) const;
+    // The disk of e = d − μ_k that holds every cut Gaussian reaching ω_o at the layer's
+    // wavelength, its squared radius widened by margin2.
+    SlopeIndex::DiskReach disk_reach(Vec3 omega_i, Vec3 omega_o, std::size_t layer, double margin2) const;
     // ξ3 at ω_i's mirror direction, which places the Gaussians.
     double sampling_xi3(Vec3 omega_i) const;
     // σ_k² ξ3² (0 at first order) and λ²/(4π²σ_k²): kernel k's covariance is
@@ -67,6 +79,8 @@ private:
     std::vector<double> wavelengths_um_;
     double sigma_um_;
     bool chirped_ = false;
+    double cut_;
+    double kept_mass_;  // 1 − e^{−cut}: each cut Gaussian's mass
     std::vector<double> probability_;  // w_k / Σ w
     std::vector<double> cumulative_;   // Σ_{j ≤ k} probability_j
     std::vector<double> square_xx_;    // (H''_k)², symmetric: xx, xy, yy

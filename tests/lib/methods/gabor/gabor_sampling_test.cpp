@@ -83,11 +83,11 @@ TEST(GaborSampling, FirstOrderDrawsFollowTheMixturePdf) {
 }
 
 // The mixture's density written out plainly over every kernel of the footprint (docs/gabor.md
-// "Sampling"): (1/L) Σ_λ Σ_k (w_k/Σw) N(d; μ_k, S_k,λ) cut at e^{−25} of its peak and renormalised,
+// "Sampling"): (1/L) Σ_λ Σ_k (w_k/Σw) N(d; μ_k, S_k,λ) cut at e^{−cut} of its peak and renormalised,
 // times cosθ_o, with the sum's own exp (gabor_math::exp_neg), so that only the order of the terms
 // differs from pdf().
 double pdf_over_every_kernel(const gabor::KernelArrays& k, const gabor::KernelGrid& grid, DiffractionModel model,
-                             const std::vector<double>& wavelengths, Vec3 omega_i, Vec3 omega_o) {
+                             double cut, const std::vector<double>& wavelengths, Vec3 omega_i, Vec3 omega_o) {
     const double xi = xi3(model, omega_i, {-omega_i.x, -omega_i.y, omega_i.z});
     const double sigma = grid.sigma_um;
     const double curvature = grid.order == 2 ? sigma * sigma * xi * xi : 0.0;
@@ -109,9 +109,9 @@ double pdf_over_every_kernel(const gabor::KernelArrays& k, const gabor::KernelGr
             const double ex = omega_o.x + omega_i.x + xi * k.slope_x[i];
             const double ey = omega_o.y + omega_i.y + xi * k.slope_y[i];
             const double half_q = (syy * ex * ex - 2.0 * sxy * ex * ey + sxx * ey * ey) / (2.0 * det);
-            if (half_q < 25.0)
+            if (half_q < cut)
                 density += k.weight[i] / total_weight * gabor_math::exp_neg(half_q) /
-                           (2.0 * pi * std::sqrt(det) * -std::expm1(-25.0));
+                           (2.0 * pi * std::sqrt(det) * -std::expm1(-cut));
         }
     }
     return density / wavelengths.size() * omega_o.z;
@@ -141,6 +141,9 @@ TEST(GaborSampling, PdfOfTheReachingCellsIsThePdfOfEveryKernel) {
                 const gabor::KernelArrays all = gabor::gather_kernels(*surface, grid, window, centre).arrays;
                 const auto index = std::make_shared<const gabor::SlopeIndex>(all, grid);
                 const gabor::KernelMixture m(index, model, wavelengths);
+                // The cut holds each kernel's box where the Gaussians are the transforms' magnitudes.
+                const double cut =
+                    phase_depends_on_outgoing(model) ? 25.0 : settings.kernel_sigmas * settings.kernel_sigmas;
                 for (const double degrees : {20.0, 70.0}) {
                     const Vec3 omega_i = incidence(degrees);
                     for (int j = 0; j < 150; ++j) {
@@ -151,7 +154,7 @@ TEST(GaborSampling, PdfOfTheReachingCellsIsThePdfOfEveryKernel) {
                         if (j % 2 == 0) x -= omega_i.x, y -= omega_i.y;
                         if (!(x * x + y * y < 1.0)) continue;
                         const Vec3 omega_o = direction_from_disk(x, y);
-                        const double every = pdf_over_every_kernel(index->kernels(), grid, model, wavelengths, omega_i, omega_o);
+                        const double every = pdf_over_every_kernel(index->kernels(), grid, model, cut, wavelengths, omega_i, omega_o);
                         const double indexed = m.pdf(omega_i, omega_o);
                         EXPECT_NEAR(indexed, every, 1e-12 * every)
                             << "order " << order << ", model " << static_cast<int>(model) << ", " << degrees << " degrees";
