@@ -210,7 +210,7 @@ using Int8 = int __attribute__((vector_size(32)));
 // reach·√(1 + ε²) per axis with ε = 2πσ² ξ3 ρ(H'')/λ (gabor::chirped_reach, the sum's cut), on
 // its samples' central differences Δ = 2dx H' and second differences (dx² H''), in float:
 // |Δ − centre| ≤ half_width·√(1 + (curvature_scale·ρ)²). A leaf's bound, at its largest ρ, keeps
-// 12–16% more kernels than this (docs/performance.md). Float rounding is covered outward:
+// 12–19% more kernels than this on the isotropic builtin (docs/performance.md). Float rounding is covered outward:
 // Δ − centre is off by at most 2^-23 (|Δ − centre| + 2|centre|) (slack 2^-20 |centre| and the
 // 2^-16 widening of half_width²); each second difference by at most 4·2^-24 of the largest step
 // between neighbouring samples, so ρ by at most 6.4·2^-24 of it (Weyl's inequality with the
