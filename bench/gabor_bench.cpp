@@ -77,7 +77,8 @@ BENCHMARK(BM_GaborVsFftPerModel256)
 // Point queries at random footprint centres and outgoing directions over the whole hemisphere;
 // state.range(0) wavelengths per query, state.range(1) kernels per texel, state.range(2) the order
 // (1: Yan 2018's kernels, 2: chirped). "per_omega_lambda" is the mean time per (ω_o, λ) pair.
-void BM_GaborPointQuery(benchmark::State& state) {
+// The isotropic surface's pruning hierarchy at K = density and the order, built once.
+const GaborSurface& point_query_surface(int density, int order) {
     const auto surface_for = [](int density, int order) {
         GaborSettings settings;
         settings.kernels_per_texel = density;
@@ -86,7 +87,12 @@ void BM_GaborPointQuery(benchmark::State& state) {
     };
     static const GaborSurface surfaces[2][2] = {{surface_for(1, 1), surface_for(1, 2)},
                                                  {surface_for(2, 1), surface_for(2, 2)}};
-    const GaborSurface& surface = surfaces[state.range(1) - 1][state.range(2) - 1];
+    return surfaces[density - 1][order - 1];
+}
+
+void BM_GaborPointQuery(benchmark::State& state) {
+    const GaborSurface& surface =
+        point_query_surface(static_cast<int>(state.range(1)), static_cast<int>(state.range(2)));
     const std::vector<double> wavelengths = state.range(0) == 1 ? std::vector<double>{0.5} : visible_bins(16);
     std::mt19937 random(7);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -109,6 +115,32 @@ void BM_GaborPointQuery(benchmark::State& state) {
 BENCHMARK(BM_GaborPointQuery)
     ->ArgsProduct({{1, 16}, {1, 2}, {1, 2}})
     ->Unit(benchmark::kMicrosecond);
+
+// A renderer's shading points inside the lobe (Yan 2018 Fig. 12's Patch scene at λ 0.4 µm):
+// footprint centres 0.7 µm apart along rows, ω_o within ±0.3 per axis on the projected disk of
+// ω_i's mirror direction (the lobe's width: twice the rms slope 0.17), where a good part of each
+// footprint's kernels reach, unlike most of GaborPointQuery's directions; K = 1, state.range(0)
+// the order.
+void BM_GaborPointQueryInTheLobe(benchmark::State& state) {
+    const GaborSurface& surface = point_query_surface(1, static_cast<int>(state.range(0)));
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> uniform(-0.3, 0.3);
+    const Vec3 omega_i = isotropic_query().omega_i;
+    std::vector<GaborPointQuery> queries(4096);
+    for (std::size_t k = 0; k < queries.size(); ++k) {
+        GaborPointQuery& query = queries[k];
+        query.footprint.centre_um = {200.0 + 0.7 * double(k % 512), 300.0 + 0.7 * double(k / 512)};
+        query.footprint.sigma_um = isotropic_query().footprint.sigma_um;
+        query.omega_i = omega_i;
+        query.omega_o = direction_from_disk(-omega_i.x + uniform(random), -omega_i.y + uniform(random));
+    }
+    std::size_t next = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(surface.f_r(queries[next], 0.4));
+        next = (next + 1) % queries.size();
+    }
+}
+BENCHMARK(BM_GaborPointQueryInTheLobe)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 // Whole images by order and density (state.range(0) order, state.range(1) kernels per texel):
 // 256², one wavelength, 2×2 supersampling, R-OHS, the default grid evaluation.

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <emmintrin.h>  // SSE2, part of x86-64: 16 slope codes per compare, 4 columns per add
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,10 @@ struct LeafCodes {
 struct gabor::Hierarchy {
     int kernels_x = 0;  // kernel grid of one tile of the periodic surface
     int kernels_y = 0;
+    // K = 1, second order: the largest |H| difference between neighbouring samples along x or y
+    // (periodic), rounded up, which bounds the rounding of the float curvature stencils that
+    // test each kernel's own chirped reach (ChirpedDifferenceTest).
+    float largest_step = 0.0f;
     std::vector<gabor::Level> levels;  // levels[0]: leaves of kLeafKernels² kernels; back(): the root
     std::vector<gabor::LeafCodes> leaf_codes;  // parallel to levels[0].boxes; empty at K = 1
 };
@@ -159,8 +164,26 @@ struct DifferenceBounds {
     float x_lo, x_hi, y_lo, y_hi;
 };
 
+// The SIMD helpers below are always inlined, so the vector calling convention that -Wpsabi warns
+// about never applies.
+#pragma GCC diagnostic ignored "-Wpsabi"
 using Float8 = float __attribute__((vector_size(32)));
 using Int8 = int __attribute__((vector_size(32)));
+
+// Bit k set where lane k of a vector compare is true.
+[[gnu::always_inline]] inline unsigned lane_bits(const Int8& inside) {
+    Int8 bits = inside & Int8{1, 2, 4, 8, 16, 32, 64, 128};
+    bits |= __builtin_shufflevector(bits, bits, 4, 5, 6, 7, 0, 1, 2, 3);
+    bits |= __builtin_shufflevector(bits, bits, 2, 3, 0, 1, 6, 7, 4, 5);
+    bits |= __builtin_shufflevector(bits, bits, 1, 0, 3, 2, 5, 4, 7, 6);
+    return static_cast<unsigned>(bits[0]);
+}
+
+[[gnu::always_inline]] inline Float8 load8(const float* p) {
+    Float8 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
 
 // The kernels at samples c0 … c0 + count − 1 (count ≤ 8) of one y-up row whose differences lie
 // within the bounds, as bits (bit k: sample c0 + k). Columns wrap periodically over `cols`.
@@ -169,19 +192,9 @@ using Int8 = int __attribute__((vector_size(32)));
                                                           const float* above, int c0, int count, int cols,
                                                           const DifferenceBounds& bounds) {
     if (c0 >= 1 && c0 + 9 <= cols && count == 8) {
-        Float8 left, right, down, up;
-        std::memcpy(&left, row + c0 - 1, sizeof left);
-        std::memcpy(&right, row + c0 + 1, sizeof right);
-        std::memcpy(&down, below + c0, sizeof down);
-        std::memcpy(&up, above + c0, sizeof up);
-        const Float8 dx = right - left;
-        const Float8 dy = up - down;
-        const Int8 inside = (dx >= bounds.x_lo) & (dx <= bounds.x_hi) & (dy >= bounds.y_lo) & (dy <= bounds.y_hi);
-        Int8 bits = inside & Int8{1, 2, 4, 8, 16, 32, 64, 128};
-        bits |= __builtin_shufflevector(bits, bits, 4, 5, 6, 7, 0, 1, 2, 3);
-        bits |= __builtin_shufflevector(bits, bits, 2, 3, 0, 1, 6, 7, 4, 5);
-        bits |= __builtin_shufflevector(bits, bits, 1, 0, 3, 2, 5, 4, 7, 6);
-        return static_cast<unsigned>(bits[0]);
+        const Float8 dx = load8(row + c0 + 1) - load8(row + c0 - 1);
+        const Float8 dy = load8(above + c0) - load8(below + c0);
+        return lane_bits((dx >= bounds.x_lo) & (dx <= bounds.x_hi) & (dy >= bounds.y_lo) & (dy <= bounds.y_hi));
     }
     unsigned bits = 0;
     for (int k = 0; k < count; ++k) {
@@ -193,15 +206,84 @@ using Int8 = int __attribute__((vector_size(32)));
     return bits;
 }
 
+// K = 1, second order: each kernel against its own chirped reach, |v + ξ3 H'/λ| ≤
+// reach·√(1 + ε²) per axis with ε = 2πσ² ξ3 ρ(H'')/λ (gabor::chirped_reach, the sum's cut), on
+// its samples' central differences Δ = 2dx H' and second differences (dx² H''), in float:
+// |Δ − centre| ≤ half_width·√(1 + (curvature_scale·ρ)²). A leaf's bound, at its largest ρ, keeps
+// 12–19% more kernels than this on the isotropic builtin (docs/performance.md). Float rounding is covered outward:
+// Δ − centre is off by at most 2^-23 (|Δ − centre| + 2|centre|) (slack 2^-20 |centre| and the
+// 2^-16 widening of half_width²); each second difference by at most 4·2^-24 of the largest step
+// between neighbouring samples, so ρ by at most 6.4·2^-24 of it (Weyl's inequality with the
+// error's Frobenius norm; + 2^-18 of it) and ρ's formula by 8·2^-24 ρ (× (1 + 2^-18)).
+struct ChirpedDifferenceTest {
+    float centre_x, centre_y;  // Δ where v + ξ3 H'/λ = 0: −2dx v/(ξ3/λ)
+    float slack_x, slack_y;    // 2^-20 |centre|
+    float half_width2;         // (2dx · reach/(ξ3/λ))², widened by 2^-16 and rounded up
+    float curvature_scale;     // 2πσ² (ξ3/λ)/dx², rounded up: ε = curvature_scale · ρ(second differences)
+    float curvature_slack;     // 2^-18 of the largest step between neighbouring samples
+};
+
+// Elementwise helpers for float and Float8.
+[[gnu::always_inline]] inline float abs_of(float x) { return std::fabs(x); }
+[[gnu::always_inline]] inline float max_of(float a, float b) { return a > b ? a : b; }
+[[gnu::always_inline]] inline float sqrt_of(float x) { return std::sqrt(x); }
+[[gnu::always_inline]] inline Float8 abs_of(const Float8& x) { return x < 0.0f ? -x : x; }
+[[gnu::always_inline]] inline Float8 max_of(const Float8& a, const Float8& b) { return a > b ? a : b; }
+[[gnu::always_inline]] inline Float8 sqrt_of(const Float8& x) {
+    Float8 root;
+    for (int lane = 0; lane < 8; ++lane) root[lane] = std::sqrt(x[lane]);
+    return root;
+}
+
+// Whether the kernel at `mid`, with its eight neighbours, passes the test (T: float, or Float8
+// for eight kernels: lanes of −1 where it does).
+template <typename T>
+[[gnu::always_inline]] inline auto chirped_reaches(const T& left, const T& mid, const T& right, const T& down,
+                                                   const T& up, const T& down_left, const T& down_right,
+                                                   const T& up_left, const T& up_right,
+                                                   const ChirpedDifferenceTest& test) {
+    const T hxx = (left - mid) + (right - mid);
+    const T hyy = (down - mid) + (up - mid);
+    const T hxy = 0.25f * ((up_right - up_left) - (down_right - down_left));
+    const T mean = 0.5f * (hxx + hyy);
+    const T half_difference = 0.5f * (hxx - hyy);
+    const T rho = (abs_of(mean) + sqrt_of(half_difference * half_difference + hxy * hxy)) * (1.0f + 0x1p-18f) +
+                  test.curvature_slack;
+    const T epsilon = test.curvature_scale * rho;
+    const T limit = test.half_width2 * (1.0f + epsilon * epsilon);
+    const T off_x = max_of(abs_of((right - left) - test.centre_x) - test.slack_x, T{} + 0.0f);
+    const T off_y = max_of(abs_of((up - down) - test.centre_y) - test.slack_y, T{} + 0.0f);
+    return (off_x * off_x <= limit) & (off_y * off_y <= limit);
+}
+
+// differences_within with each kernel's own chirped reach.
+[[gnu::always_inline]] inline unsigned chirped_differences_within(const float* below, const float* row,
+                                                                  const float* above, int c0, int count, int cols,
+                                                                  const ChirpedDifferenceTest& test) {
+    if (c0 >= 1 && c0 + 9 <= cols && count == 8)
+        return lane_bits(chirped_reaches(load8(row + c0 - 1), load8(row + c0), load8(row + c0 + 1), load8(below + c0),
+                                         load8(above + c0), load8(below + c0 - 1), load8(below + c0 + 1),
+                                         load8(above + c0 - 1), load8(above + c0 + 1), test));
+    unsigned bits = 0;
+    for (int k = 0; k < count; ++k) {
+        const int c = c0 + k;
+        const int left = c == 0 ? cols - 1 : c - 1;
+        const int right = c + 1 == cols ? 0 : c + 1;
+        bits |= static_cast<unsigned>(chirped_reaches(row[left], row[c], row[right], below[c], above[c], below[left],
+                                                      below[right], above[left], above[right], test))
+                << k;
+    }
+    return bits;
+}
+
 // K = 1, one y-up kernel row: the kernels of the leaves leaf_columns[0 … leaf_count) inside the
-// window's chord [first, last] whose differences lie within their leaf's bounds
-// (leaf_bounds[leaf · bounds_stride]: a stride of 0 shares one), their columns listed in
-// `columns` and counted. 8 slots are written per leaf and the count advanced by its survivors,
-// so that no branch depends on which kernels survive.
-GLINTSCOPE_OUT_OF_LINE_CLONES
-std::size_t list_row_survivors(const float* below, const float* row, const float* above, int cols,
-                               const int* leaf_columns, std::size_t leaf_count, long long first, long long last,
-                               const DifferenceBounds* leaf_bounds, std::size_t bounds_stride, int* columns) {
+// window's chord [first, last] for which within(c0, count) sets their bit (bit k: column c0 + k),
+// their columns listed in `columns` and counted. 8 slots are written per leaf and the count
+// advanced by its survivors, so that no branch depends on which kernels survive.
+template <typename Within>
+[[gnu::always_inline]] inline std::size_t list_survivors(int cols, const int* leaf_columns, std::size_t leaf_count,
+                                                         long long first, long long last, int* columns,
+                                                         const Within& within) {
     std::size_t count = 0;
     std::size_t leaf = 0;
     while (leaf < leaf_count && (leaf_columns[leaf] + 1LL) * kLeafKernels <= first) ++leaf;
@@ -210,8 +292,7 @@ std::size_t list_row_survivors(const float* below, const float* row, const float
         const long long skip_left = std::clamp<long long>(first - c0, 0, kLeafKernels);
         const long long skip_right = std::clamp<long long>(c0 + kLeafKernels - 1 - last, 0, kLeafKernels);
         const unsigned chord = (0xFFu << skip_left) & (0xFFu >> skip_right);
-        const unsigned bits = chord & differences_within(below, row, above, c0, std::min(kLeafKernels, cols - c0),
-                                                         cols, leaf_bounds[leaf * bounds_stride]);
+        const unsigned bits = chord & within(c0, std::min(kLeafKernels, cols - c0));
         // columns[count + k] = c0 + position k, for all 8 slots at once.
         const SetBits& set = kSetBits[bits];
         const __m128i positions = _mm_unpacklo_epi8(
@@ -224,6 +305,26 @@ std::size_t list_row_survivors(const float* below, const float* row, const float
         count += set.count;
     }
     return count;
+}
+
+// list_survivors with one set of difference bounds for every kernel (first order).
+GLINTSCOPE_OUT_OF_LINE_CLONES
+std::size_t list_row_survivors(const float* below, const float* row, const float* above, int cols,
+                               const int* leaf_columns, std::size_t leaf_count, long long first, long long last,
+                               const DifferenceBounds& bounds, int* columns) {
+    return list_survivors(cols, leaf_columns, leaf_count, first, last, columns, [&](int c0, int count) {
+        return differences_within(below, row, above, c0, count, cols, bounds);
+    });
+}
+
+// list_survivors with each kernel's own chirped reach (second order).
+GLINTSCOPE_OUT_OF_LINE_CLONES
+std::size_t list_chirped_row_survivors(const float* below, const float* row, const float* above, int cols,
+                                       const int* leaf_columns, std::size_t leaf_count, long long first,
+                                       long long last, const ChirpedDifferenceTest& test, int* columns) {
+    return list_survivors(cols, leaf_columns, leaf_count, first, last, columns, [&](int c0, int count) {
+        return chirped_differences_within(below, row, above, c0, count, cols, test);
+    });
 }
 
 // The directional test at the pruning wavelength, for node boxes and single kernels.
@@ -274,12 +375,36 @@ struct DirectionalReach {
         axis(vy, bounds.y_lo, bounds.y_hi);
         return bounds;
     }
+    // Second order (K = 1): the test of each kernel against its own chirped reach, for samples dx
+    // apart whose neighbours differ by at most largest_step; none where its float constants
+    // would leave float's range (ξ3/λ → 0 or → ∞: then every kernel is kept).
+    std::optional<ChirpedDifferenceTest> chirped_difference_test(double texel_um, float largest_step) const {
+        const double to_difference = 2.0 * texel_um / xi3_over_lambda;
+        const double centre_x = -vx * to_difference;
+        const double centre_y = -vy * to_difference;
+        const double half_width = reach * to_difference;
+        const double curvature_scale = chirp_scale * xi3_over_lambda / (texel_um * texel_um);
+        if (!(std::fabs(centre_x) <= 1e30 && std::fabs(centre_y) <= 1e30 && half_width >= 1e-15 &&
+              half_width <= 1e18 && curvature_scale <= 1e30))
+            return std::nullopt;
+        const double widened = half_width * (1.0 + 0x1p-17);
+        return ChirpedDifferenceTest{static_cast<float>(centre_x),
+                                     static_cast<float>(centre_y),
+                                     round_up(0x1p-20 * std::fabs(centre_x)),
+                                     round_up(0x1p-20 * std::fabs(centre_y)),
+                                     round_up(widened * widened),
+                                     round_up(curvature_scale),
+                                     round_up(0x1p-18 * double(largest_step))};
+    }
 };
 
 // The pruning tests widen the reach by this factor, so that rounding in them (which may differ
 // from the kernel sum's, e.g. by fused multiply-adds) never drops a kernel the sum keeps; the
 // sum itself cuts each transform exactly.
 constexpr double kReachMargin = 1.0 + 1e-9;
+
+// A reach beyond every kernel's (difference bounds that keep them all).
+constexpr double kKeepEvery = std::numeric_limits<double>::infinity();
 
 // w(p) = w(p_x, 0)·w(0, p_y) for both footprints: its factors at the kernel columns and rows
 // around one footprint centre, tabulated once per query instead of once per kernel.
@@ -478,6 +603,28 @@ void build_leaves(const BicubicInterpolant& surface, const GaborSettings& settin
     h.levels.push_back(std::move(leaves));
 }
 
+// The largest |H(c + 1, j) − H(c, j)| and |H(c, j + 1) − H(c, j)| over the samples, wrapped
+// periodically, rounded up (the differences of floats are exact in double).
+float largest_step(const BicubicInterpolant& surface) {
+    const int rows = surface.rows();
+    const int cols = surface.cols();
+    std::vector<double> row_largest(rows, 0.0);
+    parallel_for(rows, 64, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t j = begin; j < end; ++j) {
+            const float* row = surface.sample_row(static_cast<int>(j));
+            const float* above = surface.sample_row(j + 1 == std::size_t(rows) ? 0 : static_cast<int>(j) + 1);
+            double largest = 0.0;
+            for (int c = 0; c < cols; ++c) {
+                const double here = row[c];
+                largest = std::max({largest, std::fabs(double(row[c + 1 == cols ? 0 : c + 1]) - here),
+                                    std::fabs(double(above[c]) - here)});
+            }
+            row_largest[j] = largest;
+        }
+    });
+    return round_up(*std::max_element(row_largest.begin(), row_largest.end()));
+}
+
 void build_parents(gabor::Hierarchy& h) {
     while (h.levels.back().nx > 1 || h.levels.back().ny > 1) {
         const gabor::Level& child = h.levels.back();
@@ -517,6 +664,7 @@ GaborSurface::GaborSurface(std::shared_ptr<const BicubicInterpolant> surface, Ga
                     " heightfield at " + std::to_string(settings_.kernels_per_texel) +
                     " kernels per texel exceeds 2^29 kernels; use fewer kernels_per_texel");
     build_leaves(*surface_, settings_, *hierarchy);
+    if (settings_.kernels_per_texel == 1 && settings_.order == 2) hierarchy->largest_step = largest_step(*surface_);
     build_parents(*hierarchy);
     hierarchy_ = std::move(hierarchy);
 }
@@ -540,7 +688,6 @@ struct CollectScratch {
     std::vector<int> leaf_columns;           // the surviving leaves of one leaf row
     std::vector<SurfacePoint> block;
     std::vector<int> survivor_columns;       // K = 1: kernels of one row that survive pruning
-    std::vector<DifferenceBounds> leaf_bounds;  // K = 1, second order: per surviving leaf of a leaf row
     SeparableWeights weights;
 };
 
@@ -563,7 +710,8 @@ struct GaborSurface::Collector {
     const DirectionalReach reach;
     const bool sampled;  // K = 1: the kernels are the samples
     const bool chirped;  // second order: each node's reach widens with its curvature radius
-    const DifferenceBounds difference_bounds;
+    const DifferenceBounds difference_bounds;  // K = 1: of every kernel at first order (all kept when chirped)
+    const std::optional<ChirpedDifferenceTest> chirped_test;  // K = 1, second order: each kernel's own reach
     const Point2 centre;
     const double reference_height;
     const double weight_scale;
@@ -581,7 +729,11 @@ struct GaborSurface::Collector {
           reach(directional_reach(query, prune_lambda_um, grid)),
           sampled(grid.kernels_per_texel == 1),
           chirped(grid.order == 2),
-          difference_bounds(sampled ? reach.difference_bounds(grid.spacing_um, reach.reach) : DifferenceBounds{}),
+          difference_bounds(sampled ? reach.difference_bounds(grid.spacing_um, chirped ? kKeepEvery : reach.reach)
+                                    : DifferenceBounds{}),
+          chirped_test(sampled && chirped
+                           ? reach.chirped_difference_test(grid.spacing_um, surface.hierarchy_->largest_step)
+                           : std::nullopt),
           centre(query.footprint.centre_um),
           reference_height(surface.surface_->height(centre.x, centre.y)),
           weight_scale(grid.spacing_um * grid.spacing_um),
@@ -708,9 +860,13 @@ struct GaborSurface::Collector {
         const float* below = surface.surface_->sample_row(j == 0 ? rows - 1 : j - 1);
         const float* above = surface.surface_->sample_row(j + 1 == rows ? 0 : j + 1);
         int* columns = scratch.survivor_columns.data();
-        const std::size_t count = list_row_survivors(
-            below, row, above, surface.hierarchy_->kernels_x, scratch.leaf_columns.data(), scratch.leaf_columns.size(), first,
-            last, chirped ? scratch.leaf_bounds.data() : &difference_bounds, chirped ? 1 : 0, columns);
+        const int cols = surface.hierarchy_->kernels_x;
+        const std::vector<int>& leaves = scratch.leaf_columns;
+        const std::size_t count =
+            chirped_test ? list_chirped_row_survivors(below, row, above, cols, leaves.data(), leaves.size(), first,
+                                                      last, *chirped_test, columns)
+                         : list_row_survivors(below, row, above, cols, leaves.data(), leaves.size(), first, last,
+                                              difference_bounds, columns);
         counts.kernels_evaluated += count;
         const SampledRow sampled_row{below,
                                      row,
@@ -783,14 +939,6 @@ struct GaborSurface::Collector {
             // + 8: unpacking writes 8 slots past the survivors.
             scratch.survivor_columns.resize(
                 std::max(scratch.survivor_columns.size(), leaf_columns.size() * kLeafKernels + 8));
-            if (chirped) {
-                const gabor::Level& leaves = surface.hierarchy_->levels.front();
-                scratch.leaf_bounds.clear();
-                for (const int leaf_column : leaf_columns) {
-                    const std::size_t index = static_cast<std::size_t>(leaf_row) * leaves.nx + leaf_column;
-                    scratch.leaf_bounds.push_back(reach.difference_bounds(grid.spacing_um, node_reach(leaves, index)));
-                }
-            }
             for (int j = j0; j < j1; ++j)
                 if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0]);
             return;
