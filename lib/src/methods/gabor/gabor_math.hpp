@@ -23,7 +23,7 @@ template <typename T>
 // arithmetic is elementwise with scalars broadcast.
 
 // exp(−x) for 0 ≤ x ≤ 25 as exp(−x/32)^32: a degree-12 Taylor polynomial in −x/32, then five
-// squarings (each doubles the relative error). Relative error < 1e-12 for x ≤ 16, < 3e-10 for
+// squarings (each doubles the relative error). Relative error < 1e-12 for x ≤ 16, < 5e-10 for
 // x ≤ 25; the kernel sums only use x ≤ (kernel truncation)².
 template <typename T>
 [[gnu::always_inline]] inline T exp_neg(T x) {
