@@ -65,13 +65,15 @@ std::optional<int> run_program(const std::vector<std::string>& arguments) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// A file name as ffmpeg reads it: its image sequence pattern takes %% for a literal %, and a
-// relative name starting with '-' would be an option.
-std::string ffmpeg_path(const std::filesystem::path& path) {
-    std::string text = path.string();
-    if (!path.is_absolute()) text = "./" + text;
+// A file name that ffmpeg cannot take for an option (a relative name starting with '-').
+std::string not_an_option(const std::filesystem::path& path) {
+    return path.is_absolute() ? path.string() : "./" + path.string();
+}
+
+// A file name in ffmpeg's image sequence pattern, which takes %% for a literal %.
+std::string pattern_text(const std::string& name) {
     std::string escaped;
-    for (const char c : text) escaped += c == '%' ? std::string("%%") : std::string(1, c);
+    for (const char c : name) escaped += c == '%' ? std::string("%%") : std::string(1, c);
     return escaped;
 }
 
@@ -82,12 +84,10 @@ void write_sweep_video(const std::string& png, int frames) {
     const std::string video = with_suffix(png, ".mp4"), partial = with_suffix(png, ".partial.mp4");
     const std::filesystem::path p(png);
     const std::string digits = std::to_string(std::to_string(frames - 1).size());
-    const std::string pattern = ffmpeg_path(p.parent_path() / p.stem()) + "-%0" + digits + "d.png";
-    std::string output = partial;
-    if (!std::filesystem::path(partial).is_absolute()) output = "./" + partial;
+    const std::string pattern = pattern_text(not_an_option(p.parent_path() / p.stem())) + "-%0" + digits + "d.png";
     const std::optional<int> status =
         run_program({"ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-framerate", "8", "-i", pattern, "-vf",
-                     "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-pix_fmt", "yuv420p", "-f", "mp4", output});
+                     "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-pix_fmt", "yuv420p", "-f", "mp4", not_an_option(partial)});
     if (!status) {
         std::printf("no MP4: ffmpeg is not installed (apt-get install ffmpeg); the frames and the contact sheet are written\n");
         return;

@@ -360,9 +360,9 @@ RenderImage empty_image(const Scene& scene, const BsdfField& field, const Render
 }
 
 // The frames' images (scenes that differ only in their lights): each shading point's BSDF is made
-// once and evaluated for every frame's lights, so a sweep pays the footprint once per point and
-// finds its data in cache for the other frames; each frame's pixel is summed in the same order as
-// a render of that frame alone.
+// once and evaluated for every frame's lights, each frame's pixel summed in the same order as a
+// render of that frame alone. (For gabor this saves nothing measurable: its footprint BSDF costs
+// nothing to make and its query is paid per direction; docs/render.md.)
 std::vector<RenderImage> render_frames(const std::vector<Scene>& frames, const BsdfField& field,
                                        const RenderSettings& settings, const RunProgress& progress) {
     const Scene& scene = frames.front();
