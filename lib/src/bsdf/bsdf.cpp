@@ -280,28 +280,38 @@ BsdfField make_bsdf_field(const std::string& method, const LobeQuery& query) {
 }
 
 struct Ndf::State {
-    DiskDistribution table;  // sampling, and D where the method has no point query
-    PointAnswers point;      // D(h) as point.eval(·, h)
+    DiskDistribution table;  // D, sampling and pdf where the method has no point answers for them
+    PointAnswers point;      // D(h) as point.eval(·, h); h and its pdf as point.sample, point.pdf
 };
+
+// What an NDF's point answers take as ω_i, which they do not use.
+constexpr Vec3 kNdfFrameNormal{0.0, 0.0, 1.0};
 
 Ndf::Ndf(std::shared_ptr<const State> state) : state_(std::move(state)) {}
 
 std::vector<double> Ndf::eval(Vec3 h) const {
     h = unit_direction(h, "h");
     if (h.z <= 0.0) return std::vector<double>(state_->table.layers, 0.0);
-    if (state_->point.eval) return state_->point.eval({0.0, 0.0, 1.0}, h);
+    if (state_->point.eval) return state_->point.eval(kNdfFrameNormal, h);
     return values_at(state_->table, h.x, h.y);
 }
 
 bool Ndf::evaluates_directly() const { return static_cast<bool>(state_->point.eval); }
+bool Ndf::samples_directly() const { return static_cast<bool>(state_->point.sample); }
 
 double Ndf::pdf(Vec3 h) const {
     h = unit_direction(h, "h");
     if (h.z <= 0.0) return 0.0;
+    if (state_->point.pdf) return state_->point.pdf(kNdfFrameNormal, h);
     return disk_density(state_->table, h.x, h.y) * h.z;
 }
 
 NdfSample Ndf::sample(double u1, double u2) const {
+    if (state_->point.sample) {
+        const DirectionSample s = state_->point.sample(kNdfFrameNormal, u1, u2);
+        if (!(s.pdf > 0.0)) return {};
+        return {s.direction, s.pdf};
+    }
     const auto point = sample_disk(state_->table, u1, u2);
     if (!point) return {};
     const Vec3 h = direction_from_disk(point->x, point->y);

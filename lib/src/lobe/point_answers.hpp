@@ -26,7 +26,9 @@ struct PointAnswers {
     // f_r(ω_i, ω_o) per query wavelength for unit directions above the horizon: what the image
     // holds at a pixel centre at supersample 1. A method answering ndf: D(h) for eval(·, h).
     std::function<std::vector<double>(Vec3 omega_i, Vec3 omega_o)> eval;
-    // A sampler and its exact pdf (both or neither).
+    // A sampler and its exact pdf (both or neither). A method answering ndf: h drawn by
+    // sample(·, u1, u2) and its density per unit solid angle of h, pdf(·, h), the same density
+    // as its eval (pdf ∝ D(h) h_z).
     std::function<DirectionSample(Vec3 omega_i, double u1, double u2)> sample;
     std::function<double(Vec3 omega_i, Vec3 omega_o)> pdf;
     // `sample` with f_r at the sampled direction, for a method that computes the two in one pass

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
@@ -753,6 +754,20 @@ std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const Norma
 
 double sampled_normal_density(const NormalBoundsTree& tree, const NormalSampler& sampler, DiskPoint normal) {
     return point_normal_density(tree, sampler.footprint, normal) * sampler.density_scale;
+}
+
+LazyNormalSampler::LazyNormalSampler(std::shared_ptr<const NormalBoundsTree> tree, const Footprint& footprint)
+    : tree_(std::move(tree)), sampler_([tree = tree_, footprint] { return make_normal_sampler(*tree, footprint); }) {}
+
+std::optional<NormalDraw> LazyNormalSampler::draw(double u1, double u2) const {
+    const NormalSampler& sampler = sampler_.get();
+    const std::optional<DiskPoint> normal = sample_normal(*tree_, sampler, u1, u2);
+    if (!normal) return std::nullopt;
+    return NormalDraw{*normal, sampled_normal_density(*tree_, sampler, *normal)};
+}
+
+double LazyNormalSampler::density(DiskPoint normal) const {
+    return sampled_normal_density(*tree_, sampler_.get(), normal);
 }
 
 }  // namespace glintscope

@@ -40,6 +40,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/lazy.hpp"
 #include "glintscope/core/geometry.hpp"
 #include "glintscope/lobe/query.hpp"
 #include "glintscope/surface/interpolant.hpp"
@@ -135,5 +136,27 @@ std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const Norma
 
 // The density per unit disk area with which sample_normal draws h.
 double sampled_normal_density(const NormalBoundsTree& tree, const NormalSampler& sampler, DiskPoint normal);
+
+// A drawn normal and the density per unit disk area with which it was drawn.
+struct NormalDraw {
+    DiskPoint normal;
+    double density = 0.0;
+};
+
+// One footprint's sampler over a shared tree, made on the first draw or density (a caller that
+// only evaluates D, such as a renderer's shading point, never pays for its pass over the
+// support) and then shared by every thread. Without intrinsic roughness (the first use throws
+// otherwise, as make_normal_sampler does).
+class LazyNormalSampler {
+public:
+    LazyNormalSampler(std::shared_ptr<const NormalBoundsTree> tree, const Footprint& footprint);
+    // sample_normal's normal and its sampled_normal_density.
+    std::optional<NormalDraw> draw(double u1, double u2) const;
+    double density(DiskPoint normal) const;
+
+private:
+    std::shared_ptr<const NormalBoundsTree> tree_;
+    Lazy<NormalSampler> sampler_;
+};
 
 }  // namespace glintscope

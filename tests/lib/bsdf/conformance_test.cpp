@@ -292,6 +292,10 @@ TEST_P(NdfConformance, SamplesFollowThePdfAndDIsTheImage) {
     EXPECT_LT(std::sqrt(difference / norm), 0.07);
     const double image_sum = disk_integral(image, 0);
     EXPECT_NEAR(ndf.normalisation()[0], image_sum, 1e-3 * image_sum);
+    // A point query's own sampler (pndf's) is tested against its pdf with its method
+    // (tests/lib/methods/pndf/pndf_test.cpp, on a paraboloid): here the caustics make D singular
+    // along folds, beyond the cells' quadrature, and each sample's pdf is a point query.
+    if (ndf.samples_directly()) return;
     const CounterRng rng(22, 4);
     std::vector<long> observed(kCells * kCells + 1, 0);
     for (long k = 0; k < kSamples; ++k) {

@@ -103,16 +103,28 @@ struct NdfSample {
 };
 
 // A method's normal distribution of one footprint as a function: D(h), and h sampled by
-// projected area (pdf = D(h) h_z / ∫ D h_z dω). Same sharing and threading as Bsdf. D is the
-// method's point query where it has one (pndf: the exact D at h, whose mean over an image pixel
-// is the pixel), else the pixel of its image holding h; sampling is always from the image.
+// projected area (pdf = D(h) h_z / ∫ D h_z dω), so that sample, pdf and eval are one density.
+// Same sharing and threading as Bsdf. D is the method's point query where it has one (pndf:
+// the exact D at h, whose mean over an image pixel is the pixel), else the pixel of its image
+// holding h. h is drawn by the point query's own sampler where it has one (pndf without
+// intrinsic roughness: a triangle of the footprint by its weight, a uniform point of its normal
+// image; pdf = D(h) h_z × (truncated footprint weight / the triangles' weight, 1 ± 1e-5), its
+// cumulative weights made on the first sample or pdf), else from the image (piecewise constant
+// over its pixels, exact pdf: a box footprint, intrinsic roughness, a method without a point
+// query); with intrinsic roughness eval is still the point query, so the pdf follows the
+// image's pixels rather than eval's D.
 class Ndf {
 public:
     // D(h) per wavelength of the query (one value for wavelength-independent methods' copies).
     std::vector<double> eval(Vec3 h) const;
     // Whether eval is the method's point query (else its image's pixels).
     bool evaluates_directly() const;
+    // Whether sample and pdf are the point query's own sampler (else its image's pixels).
+    bool samples_directly() const;
+    // h from two uniforms in [0, 1); pdf 0 (no h) where the drawn triangle's normal image is a
+    // segment, which the point query gives no density.
     NdfSample sample(double u1, double u2) const;
+    // The density per unit solid angle with which sample() returns h.
     double pdf(Vec3 h) const;
     // ∫ D(h) h_z dω_h per wavelength: 1 for a normalised NDF whose mass lies on the disk.
     std::vector<double> normalisation() const;

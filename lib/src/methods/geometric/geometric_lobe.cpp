@@ -8,7 +8,6 @@
 #include <memory>
 #include <optional>
 
-#include "core/lazy.hpp"
 #include "normal_density/microfacet_answers.hpp"
 #include "normal_density/normal_bounds_tree.hpp"
 #include "normal_density/normal_density.hpp"
@@ -325,7 +324,8 @@ PointAnswers geometric_point(const LobeQuery& query) {
 // f_r for any footprint from one tree over the field: the point query of the same triangles
 // as the internal table of point-sampled pixels, read at h itself rather than bilinearly; without
 // intrinsic roughness also its sampler: h drawn with the point query's own density
-// (make_normal_sampler), ω_o = reflect(ω_i, h), pdf = that density × the half-vector Jacobian.
+// (LazyNormalSampler: made on the first draw or pdf, so eval alone never pays for it),
+// ω_o = reflect(ω_i, h), pdf = that density × the half-vector Jacobian.
 // Shadowing needs the footprint's whole NDF (Smith's integral, the ellipsoid fit), and a box's
 // lattice is not the texels': those are answered from the images.
 PointAnswersAt geometric_point_field(const LobeQuery& query) {
@@ -346,20 +346,15 @@ PointAnswersAt geometric_point_field(const LobeQuery& query) {
                                     layers);
         };
         if (tree->intrinsic_roughness > 0.0) return answers;
-        // The footprint's sampler is made on the first draw or pdf (eval alone, a renderer's
-        // shading point, never pays for it) and then shared by every thread.
-        auto sampler = std::make_shared<const Lazy<NormalSampler>>([tree, footprint] {
-            return make_normal_sampler(*tree, footprint);
-        });
-        answers.sample = [tree, sampler](Vec3 omega_i, double u1, double u2) -> DirectionSample {
-            const NormalSampler& normals = sampler->get();
-            const std::optional<DiskPoint> h = sample_normal(*tree, normals, u1, u2);
+        auto normals = std::make_shared<const LazyNormalSampler>(tree, footprint);
+        answers.sample = [normals](Vec3 omega_i, double u1, double u2) -> DirectionSample {
+            const std::optional<NormalDraw> h = normals->draw(u1, u2);
             if (!h) return {};
-            return reflected_sample(omega_i, *h, sampled_normal_density(*tree, normals, *h));
+            return reflected_sample(omega_i, h->normal, h->density);
         };
-        answers.pdf = [tree, sampler](Vec3 omega_i, Vec3 omega_o) {
+        answers.pdf = [normals](Vec3 omega_i, Vec3 omega_o) {
             const Vec3 h = normalize(omega_i + omega_o);
-            return reflection_pdf(sampled_normal_density(*tree, sampler->get(), {h.x, h.y}), h, omega_o);
+            return reflection_pdf(normals->density({h.x, h.y}), h, omega_o);
         };
         return answers;
     };

@@ -1,6 +1,7 @@
 #include "methods/pndf/pndf.hpp"
 
 #include <memory>
+#include <optional>
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/text_format.hpp"
@@ -52,17 +53,30 @@ LobeImage patch_ndf(const LobeQuery& query) {
     return image;
 }
 
-// D(h) for any footprint from one tree over the field (eval(·, h): an NDF's point answer).
+// D(h) for any footprint from one tree over the field (eval(·, h): an NDF's point answer), and
+// without intrinsic roughness h drawn with that same density (sample(·, u1, u2), pdf(·, h) per
+// unit solid angle of h), so that sample, pdf and eval are one distribution; with it, the Ndf
+// samples its image.
 PointAnswersAt pndf_point_field(const LobeQuery& query) {
     auto tree = std::make_shared<const NormalBoundsTree>(
         make_normal_bounds_tree(query.surface, normal_density_settings(query), query.resolution));
     const std::size_t layers = query.wavelengths_um.size();
     return [tree, layers](const Footprint& footprint) -> PointAnswers {
         if (!answers_points(footprint)) return {};
-        return {[tree, footprint, layers](Vec3, Vec3 h) {
-                    return std::vector<double>(layers, point_normal_density(*tree, footprint, {h.x, h.y}));
-                },
-                {}, {}};
+        PointAnswers answers;
+        answers.eval = [tree, footprint, layers](Vec3, Vec3 h) {
+            return std::vector<double>(layers, point_normal_density(*tree, footprint, {h.x, h.y}));
+        };
+        if (tree->intrinsic_roughness > 0.0) return answers;
+        auto normals = std::make_shared<const LazyNormalSampler>(tree, footprint);
+        answers.sample = [normals](Vec3, double u1, double u2) -> DirectionSample {
+            const std::optional<NormalDraw> drawn = normals->draw(u1, u2);
+            if (!drawn) return {};
+            const Vec3 h = direction_from_disk(drawn->normal.x, drawn->normal.y);
+            return {h, drawn->density * h.z};  // dA on the disk = h_z dω_h
+        };
+        answers.pdf = [normals](Vec3, Vec3 h) { return normals->density({h.x, h.y}) * h.z; };
+        return answers;
     };
 }
 

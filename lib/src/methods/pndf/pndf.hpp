@@ -6,7 +6,9 @@
 // Metadata: "pndf.refinement", "pndf.tolerance_pixels", "pndf.intrinsic_roughness_rad",
 // "pndf.weight_sigma_um".
 // Point field: one normal-bounds tree over the field (normal_density/normal_bounds_tree.hpp)
-// answers D(h) = eval(·, h) for any Gaussian or whole-field footprint; a box: from the images.
+// answers D(h) = eval(·, h) for any Gaussian or whole-field footprint, and without intrinsic
+// roughness samples h with that density (sample(·, u1, u2), pdf(·, h) = D(h) h_z × the
+// sampler's normalisation, 1 ± 1e-5); a box: from the images.
 #include <vector>
 
 #include "normal_density/normal_density.hpp"
