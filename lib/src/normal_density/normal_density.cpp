@@ -397,6 +397,9 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void accumulate_rows
             const Pixel* upper = lower + corners_x;
             for (long long i = 0; i < lattice.nx; ++i) {
                 const double x = lattice.x0 + i * hx;
+                // A cell past the footprint's truncation (the lattice's corners, a fifth of a
+                // Gaussian's square) deposits nothing; skipping it spares its subdivision.
+                if (weight.vanishes_on(x, y, x + hx, y + hy)) continue;
                 const int n = adaptive ? subdivisions(settings, lower[i], lower[i + 1], upper[i], upper[i + 1],
                                                       centre_pixels[static_cast<std::size_t>(j * lattice.nx + i)])
                                        : settings.refinement;
