@@ -470,7 +470,7 @@ template <typename Grid>
 // and each row's double running sum of its row differences. No triangle reached beyond `box`
 // (the union of the stripes' boxes), so the sums only start there; but they run on to the
 // image's last row and column, as over the whole disk: where a line's differences cancel, their
-// rounding leaves a residue (up to ~1e-10 of the peak) that the running sums carry on, and the
+// rounding leaves a residue (up to 4e-10 of the peak) that the running sums carry on, and the
 // image keeps those bits. Returns the pixels [box.row_begin, N) × [box.column_begin, N), which
 // hold every nonzero one.
 EntryBox resolve(const std::vector<StripeGrids>& stripes, int resolution, const EntryBox& box, std::vector<double>& density) {
