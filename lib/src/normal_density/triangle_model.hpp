@@ -60,6 +60,17 @@ struct Weight {
         const double r2 = (x - centre.x) * (x - centre.x) + (y - centre.y) * (y - centre.y);
         return r2 > cutoff_squared ? 0.0 : scale * std::exp(-r2 * inverse_two_variance);
     }
+
+    // Whether the weight is zero all over the rectangle [x0, x1] × [y0, y1]: a Gaussian's
+    // rectangle lies beyond its truncation circle (an ellipse's: beyond the circle of its major
+    // axis, which holds it) by a margin far above the rounding of the exponent, so that a cell
+    // there, whose triangles would all carry zero mass, can be skipped unevaluated.
+    bool vanishes_on(double x0, double y0, double x1, double y1) const {
+        if (shape != FootprintShape::gaussian) return false;
+        const double dx = std::max({x0 - centre.x, 0.0, centre.x - x1});
+        const double dy = std::max({y0 - centre.y, 0.0, centre.y - y1});
+        return dx * dx + dy * dy > cutoff_squared * (1.0 + 1e-6);
+    }
 };
 
 // First lattice index at or below `from` and the count of cells up to `to`, for a lattice
