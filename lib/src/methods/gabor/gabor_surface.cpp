@@ -1030,17 +1030,19 @@ struct GaborSurface::Collector {
 
 void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
                            GaborQueryStatistics* statistics) const {
-    collect(query, {query.omega_i}, prune_lambda_um, {&kernels}, statistics);
+    gabor::KernelArrays* const target = &kernels;
+    collect(query, &query.omega_i, 1, prune_lambda_um, &target, statistics);
 }
 
-void GaborSurface::collect(const GaborPointQuery& query, const std::vector<Vec3>& omegas_i, double prune_lambda_um,
-                           const std::vector<gabor::KernelArrays*>& kernels, GaborQueryStatistics* statistics) const {
+void GaborSurface::collect(const GaborPointQuery& query, const Vec3* omegas_i, std::size_t count,
+                           double prune_lambda_um, gabor::KernelArrays* const* kernels,
+                           GaborQueryStatistics* statistics) const {
     thread_local CollectScratch scratch;
     thread_local std::vector<Aim> aims;
     const gabor::KernelGrid grid = gabor::kernel_grid(surface_->texel_um(), settings_);
-    for (std::size_t first = 0; first < omegas_i.size(); first += kMaxAims) {
+    for (std::size_t first = 0; first < count; first += kMaxAims) {
         aims.clear();
-        for (std::size_t k = first; k < std::min(omegas_i.size(), first + kMaxAims); ++k) {
+        for (std::size_t k = first; k < std::min(count, first + kMaxAims); ++k) {
             GaborPointQuery one = query;
             one.omega_i = omegas_i[k];
             aims.push_back({Collector::directional_reach(one, prune_lambda_um, grid), kernels[k]});
@@ -1229,7 +1231,7 @@ std::vector<double> GaborSurface::f_r(const GaborPointQuery& query, const std::v
     }
     std::vector<double> ascending = wavelengths_um;
     std::sort(ascending.begin(), ascending.end());
-    collect(query, lit_omegas, ascending.back(), targets, nullptr);
+    collect(query, lit_omegas.data(), lit_omegas.size(), ascending.back(), targets.data(), nullptr);
     const gabor::KernelGrid grid = gabor::kernel_grid(surface_->texel_um(), settings_);
     const double area = gabor::CoherenceWindow(query.footprint, settings_.footprint_sigmas).area_um2();
     for (std::size_t k = 0; k < lit.size(); ++k) {

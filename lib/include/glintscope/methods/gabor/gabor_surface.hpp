@@ -105,9 +105,10 @@ private:
     // Appends the kernels that survive pruning at `prune_lambda_um`, heights relative to H(x_c).
     void collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
                  GaborQueryStatistics* statistics) const;
-    // The same for each of omegas_i (query.omega_i unused) into kernels[d], in one walk.
-    void collect(const GaborPointQuery& query, const std::vector<Vec3>& omegas_i, double prune_lambda_um,
-                 const std::vector<gabor::KernelArrays*>& kernels, GaborQueryStatistics* statistics) const;
+    // The same for each of omegas_i[0 … count) (query.omega_i unused) into *kernels[d], in one
+    // walk per 64 directions.
+    void collect(const GaborPointQuery& query, const Vec3* omegas_i, std::size_t count, double prune_lambda_um,
+                 gabor::KernelArrays* const* kernels, GaborQueryStatistics* statistics) const;
 
     std::shared_ptr<const BicubicInterpolant> surface_;
     GaborSettings settings_;
