@@ -126,6 +126,21 @@ std::vector<double> Bsdf::eval(Vec3 omega_i, Vec3 omega_o) const {
     return values_at(*state_->table(omega_i), omega_o.x, omega_o.y);
 }
 
+std::vector<double> Bsdf::eval_incident(const std::vector<Vec3>& omegas_i, Vec3 omega_o) const {
+    const Vec3 unit_o = unit_direction(omega_o, "omega_o");
+    std::vector<Vec3> units;
+    units.reserve(omegas_i.size());
+    for (const Vec3 omega_i : omegas_i) units.push_back(unit_direction(omega_i, "omega_i"));
+    if (state_->point.eval_incident && unit_o.z > 0.0) return state_->point.eval_incident(units, unit_o);
+    std::vector<double> values;
+    values.reserve(omegas_i.size() * wavelengths_um().size());
+    for (const Vec3 omega_i : omegas_i) {
+        const std::vector<double> f = eval(omega_i, omega_o);
+        values.insert(values.end(), f.begin(), f.end());
+    }
+    return values;
+}
+
 std::vector<double> Bsdf::eval(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& chosen_um) const {
     for (const double lambda : chosen_um)
         if (!(lambda > 0.0 && std::isfinite(lambda)))

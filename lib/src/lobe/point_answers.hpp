@@ -42,6 +42,11 @@ struct PointAnswers {
     // takes any λ; without it only the query's wavelengths can be asked for.
     std::function<std::vector<double>(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& wavelengths_um)>
         eval_at_wavelengths = nullptr;
+    // eval at each of several ω_i (unit; those below the horizon give 0) for one unit ω_o above
+    // it, direction-major ([d · wavelengths + w]), equal bit for bit to eval direction by
+    // direction, for a method that shares work across the directions (a renderer's lights at one
+    // shading point); empty: the BSDF calls eval per direction.
+    std::function<std::vector<double>(const std::vector<Vec3>& omegas_i, Vec3 omega_o)> eval_incident = nullptr;
 };
 
 // The supersampling of the albedo's quadrature of a point query's eval (bsdf.hpp).

@@ -360,9 +360,9 @@ RenderImage empty_image(const Scene& scene, const BsdfField& field, const Render
 }
 
 // The frames' images (scenes that differ only in their lights): each shading point's BSDF is made
-// once and evaluated for every frame's lights, each frame's pixel summed in the same order as a
-// render of that frame alone. (For gabor this saves nothing measurable: its footprint BSDF costs
-// nothing to make and its query is paid per direction; docs/render.md.)
+// once and evaluated for all frames' lights in one eval_incident call (gabor: one walk of the
+// footprint's kernels for all of them; docs/render.md), each frame's pixel summed in the same
+// order as a render of that frame alone.
 std::vector<RenderImage> render_frames(const std::vector<Scene>& frames, const BsdfField& field,
                                        const RenderSettings& settings, const RunProgress& progress) {
     const Scene& scene = frames.front();
@@ -378,6 +378,10 @@ std::vector<RenderImage> render_frames(const std::vector<Scene>& frames, const B
     std::mutex progress_mutex;
     parallel_for(std::size_t(height), 1, [&](std::size_t begin, std::size_t end) {
         std::vector<double> sums(frames.size() * layers);  // frame-major: the pixel's sum per frame and layer
+        // A shading point's lit arrivals over all frames, in frame then light order.
+        std::vector<Vec3> omegas_i;
+        std::vector<double> irradiances;
+        std::vector<std::size_t> arrival_frames;
         for (int row = int(begin); row < int(end); ++row) {
             for (int col = 0; col < width; ++col) {
                 std::fill(sums.begin(), sums.end(), 0.0);
@@ -386,14 +390,24 @@ std::vector<RenderImage> render_frames(const std::vector<Scene>& frames, const B
                         const ShadingPoint point = geometry.at(row, col, b, a);
                         if (!point.hit) continue;
                         const Bsdf bsdf = field.at(footprint_at(scene, point, pixel_footprint));
+                        omegas_i.clear();
+                        irradiances.clear();
+                        arrival_frames.clear();
                         for (std::size_t frame = 0; frame < frames.size(); ++frame)
                             for (const PointLight& light : frames[frame].lights) {
                                 const LightArrival arrival = light_arrival(light, point.position_um);
                                 if (arrival.irradiance == 0.0) continue;
-                                const std::vector<double> f = bsdf.eval(arrival.omega_i, point.omega_o);
-                                double* sum = &sums[frame * layers];
-                                for (std::size_t k = 0; k < layers; ++k) sum[k] += f[k] * arrival.irradiance;  // L = f_r E
+                                omegas_i.push_back(arrival.omega_i);
+                                irradiances.push_back(arrival.irradiance);
+                                arrival_frames.push_back(frame);
                             }
+                        if (omegas_i.empty()) continue;
+                        const std::vector<double> f = bsdf.eval_incident(omegas_i, point.omega_o);
+                        for (std::size_t n = 0; n < omegas_i.size(); ++n) {
+                            double* sum = &sums[arrival_frames[n] * layers];
+                            for (std::size_t k = 0; k < layers; ++k)
+                                sum[k] += f[n * layers + k] * irradiances[n];  // L = f_r E
+                        }
                     }
                 for (std::size_t frame = 0; frame < frames.size(); ++frame)
                     for (std::size_t k = 0; k < layers; ++k)

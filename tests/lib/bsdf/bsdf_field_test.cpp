@@ -132,6 +132,34 @@ TEST(BsdfField, AtAFootprintIsMakeBsdfOfThatFootprint) {
               field.at(other_footprints(query)[1]).eval(omega_i, omega_o));
 }
 
+// Several ω_i at one ω_o (a renderer's lights): eval_incident equals eval direction by direction
+// bit for bit, for gabor's field (one walk for all directions, two wavelengths) and for a method
+// whose BSDF evaluates them one by one (stam), with unnormalised directions and one below the
+// horizon.
+TEST(BsdfField, EvalIncidentEqualsEvalDirectionByDirection) {
+    const LobeQuery query = gabor_query();
+    const BsdfField field = make_bsdf_field("gabor", query);
+    std::vector<Vec3> omegas_i;
+    for (int k = 0; k < 20; ++k) omegas_i.push_back((1.0 + 0.1 * k) * direction_from_spherical(0.1 + 0.04 * k, 0.5 + 0.02 * k));
+    omegas_i.push_back({0.2, 0.1, -0.5});
+    int nonzero = 0;
+    for (const Bsdf& bsdf : {field.at(other_footprints(query)[1]), field.at(other_footprints(query)[3]),
+                             make_bsdf("stam", query)})
+        for (const Vec3 omega_o : {pixel_direction(12, 3), 2.0 * pixel_direction(5, 9)}) {
+            const std::vector<double> together = bsdf.eval_incident(omegas_i, omega_o);
+            const std::size_t layers = bsdf.wavelengths_um().size();
+            ASSERT_EQ(together.size(), omegas_i.size() * layers);
+            for (std::size_t d = 0; d < omegas_i.size(); ++d) {
+                const std::vector<double> alone = bsdf.eval(omegas_i[d], omega_o);
+                for (std::size_t w = 0; w < layers; ++w) {
+                    EXPECT_EQ(together[d * layers + w], alone[w]) << bsdf.method() << " direction " << d;
+                    nonzero += alone[w] > 0.0;
+                }
+            }
+        }
+    EXPECT_GT(nonzero, 50);
+}
+
 TEST(BsdfField, AnswersDoNotDependOnTheCallingThreads) {
     const LobeQuery query = gabor_query();
     const BsdfField field = make_bsdf_field("gabor", query);

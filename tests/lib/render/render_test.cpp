@@ -204,6 +204,23 @@ TEST(Render, OneAndTwoThreadsGiveTheSameImage) {
     EXPECT_GT(*std::max_element(one.values.begin(), one.values.end()), 0.0f);
 }
 
+// A sweep over glints (two lights, two wavelengths): each shading point evaluates all frames'
+// lights in one eval_incident call, and each frame is still bit for bit the render of that frame
+// alone, for 1 and 2 threads.
+TEST(Render, ASweepOverGlintsIsEachFramesOwnRenderForAnyThreadCount) {
+    const Scene scene = isotropic_scene();
+    const std::vector<Scene> frames = light_sweep(scene, 3, 1500.0);
+    const std::vector<RenderImage> one = render_light_sweep(scene, 3, 1500.0, RenderSettings{4, 1});
+    const std::vector<RenderImage> two = render_light_sweep(scene, 3, 1500.0, RenderSettings{4, 2});
+    ASSERT_EQ(one.size(), 3u);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+        EXPECT_EQ(one[k].values, two[k].values) << "frame " << k;
+        EXPECT_EQ(one[k].values, render(frames[k], RenderSettings{4, 0}).values) << "frame " << k;
+        EXPECT_GT(*std::max_element(one[k].values.begin(), one[k].values.end()), 0.0f) << "frame " << k;
+    }
+    EXPECT_NE(one[0].values, one[2].values);  // the glints move with the light
+}
+
 void expect_refused(const Scene& scene, const RenderSettings& settings, const std::string& words) {
     try {
         validate(scene, settings);

@@ -38,6 +38,11 @@ public:
     // query takes any λ (any_wavelength()), otherwise only wavelengths the BSDF was made with;
     // throws Error naming the wavelength it cannot answer.
     std::vector<double> eval(Vec3 omega_i, Vec3 omega_o, const std::vector<double>& wavelengths_um) const;
+    // f_r at each of several ω_i for one ω_o, direction-major: value [d · wavelengths + w] is
+    // eval(omegas_i[d], omega_o)[w], bit for bit. A method's point query may share the work of its
+    // footprint across the directions (gabor: one walk of its kernels; docs/renderer.md); every
+    // other method evaluates them one by one.
+    std::vector<double> eval_incident(const std::vector<Vec3>& omegas_i, Vec3 omega_o) const;
     // ω_o from two uniforms in [0, 1), shared by all wavelengths.
     BsdfSample sample(Vec3 omega_i, double u1, double u2) const;
     // The density per unit solid angle with which sample() returns ω_o.

@@ -98,6 +98,10 @@ PointAnswersAt gabor_point_field(const LobeQuery& query) {
         answers.eval = [surface, footprint, model, material, wavelengths](Vec3 omega_i, Vec3 omega_o) {
             return surface->f_r({footprint, omega_i, omega_o, model, material}, wavelengths);
         };
+        answers.eval_incident = [surface, footprint, model, material, wavelengths](const std::vector<Vec3>& omegas_i,
+                                                                                  Vec3 omega_o) {
+            return surface->f_r({footprint, omega_o, omega_o, model, material}, omegas_i, wavelengths);
+        };
         answers.eval_at_wavelengths = [surface, footprint, model, material](Vec3 omega_i, Vec3 omega_o,
                                                                           const std::vector<double>& chosen) {
             return surface->f_r({footprint, omega_i, omega_o, model, material}, chosen);

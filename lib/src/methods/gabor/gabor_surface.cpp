@@ -185,27 +185,6 @@ using Int8 = int __attribute__((vector_size(32)));
     return v;
 }
 
-// The kernels at samples c0 … c0 + count − 1 (count ≤ 8) of one y-up row whose differences lie
-// within the bounds, as bits (bit k: sample c0 + k). Columns wrap periodically over `cols`.
-// Eight lanes at once (one AVX compare, or two SSE ones) away from the seam.
-[[gnu::always_inline]] inline unsigned differences_within(const float* below, const float* row,
-                                                          const float* above, int c0, int count, int cols,
-                                                          const DifferenceBounds& bounds) {
-    if (c0 >= 1 && c0 + 9 <= cols && count == 8) {
-        const Float8 dx = load8(row + c0 + 1) - load8(row + c0 - 1);
-        const Float8 dy = load8(above + c0) - load8(below + c0);
-        return lane_bits((dx >= bounds.x_lo) & (dx <= bounds.x_hi) & (dy >= bounds.y_lo) & (dy <= bounds.y_hi));
-    }
-    unsigned bits = 0;
-    for (int k = 0; k < count; ++k) {
-        const int c = c0 + k;
-        const float dx = row[c + 1 == cols ? 0 : c + 1] - row[c == 0 ? cols - 1 : c - 1];
-        const float dy = above[c] - below[c];
-        bits |= unsigned{dx >= bounds.x_lo && dx <= bounds.x_hi && dy >= bounds.y_lo && dy <= bounds.y_hi} << k;
-    }
-    return bits;
-}
-
 // K = 1, second order: each kernel against its own chirped reach, |v + ξ3 H'/λ| ≤
 // reach·√(1 + ε²) per axis with ε = 2πσ² ξ3 ρ(H'')/λ (gabor::chirped_reach, the sum's cut), on
 // its samples' central differences Δ = 2dx H' and second differences (dx² H''), in float:
@@ -220,7 +199,6 @@ struct ChirpedDifferenceTest {
     float slack_x, slack_y;    // 2^-20 |centre|
     float half_width2;         // (2dx · reach/(ξ3/λ))², widened by 2^-16 and rounded up
     float curvature_scale;     // 2πσ² (ξ3/λ)/dx², rounded up: ε = curvature_scale · ρ(second differences)
-    float curvature_slack;     // 2^-18 of the largest step between neighbouring samples
 };
 
 // Elementwise helpers for float and Float8.
@@ -235,56 +213,94 @@ struct ChirpedDifferenceTest {
     return root;
 }
 
-// Whether the kernel at `mid`, with its eight neighbours, passes the test (T: float, or Float8
-// for eight kernels: lanes of −1 where it does).
+// One y-up row's samples c0 … c0 + 7 seen by the tests of every aim: their central differences
+// Δx = H(c + 1) − H(c − 1), Δy = H(j + 1) − H(j − 1) and, second order, the bound ρ on their
+// second differences' spectral radius (with its rounding slack), computed once however many
+// aims test them. Lanes past the row's end hold NaN, which no test passes.
+struct SampleLanes {
+    Float8 dx, dy, rho;
+};
+
+// ρ of the kernel at `mid` from its eight neighbours (T: float, or Float8 for eight kernels):
+// the spectral radius of its second differences, rounded up (ChirpedDifferenceTest).
 template <typename T>
-[[gnu::always_inline]] inline auto chirped_reaches(const T& left, const T& mid, const T& right, const T& down,
-                                                   const T& up, const T& down_left, const T& down_right,
-                                                   const T& up_left, const T& up_right,
-                                                   const ChirpedDifferenceTest& test) {
+[[gnu::always_inline]] inline T curvature_radius(const T& left, const T& mid, const T& right, const T& down,
+                                                 const T& up, const T& down_left, const T& down_right,
+                                                 const T& up_left, const T& up_right, float curvature_slack) {
     const T hxx = (left - mid) + (right - mid);
     const T hyy = (down - mid) + (up - mid);
     const T hxy = 0.25f * ((up_right - up_left) - (down_right - down_left));
     const T mean = 0.5f * (hxx + hyy);
     const T half_difference = 0.5f * (hxx - hyy);
-    const T rho = (abs_of(mean) + sqrt_of(half_difference * half_difference + hxy * hxy)) * (1.0f + 0x1p-18f) +
-                  test.curvature_slack;
-    const T epsilon = test.curvature_scale * rho;
-    const T limit = test.half_width2 * (1.0f + epsilon * epsilon);
-    const T off_x = max_of(abs_of((right - left) - test.centre_x) - test.slack_x, T{} + 0.0f);
-    const T off_y = max_of(abs_of((up - down) - test.centre_y) - test.slack_y, T{} + 0.0f);
-    return (off_x * off_x <= limit) & (off_y * off_y <= limit);
+    return (abs_of(mean) + sqrt_of(half_difference * half_difference + hxy * hxy)) * (1.0f + 0x1p-18f) +
+           curvature_slack;
 }
 
-// differences_within with each kernel's own chirped reach.
-[[gnu::always_inline]] inline unsigned chirped_differences_within(const float* below, const float* row,
-                                                                  const float* above, int c0, int count, int cols,
-                                                                  const ChirpedDifferenceTest& test) {
-    if (c0 >= 1 && c0 + 9 <= cols && count == 8)
-        return lane_bits(chirped_reaches(load8(row + c0 - 1), load8(row + c0), load8(row + c0 + 1), load8(below + c0),
-                                         load8(above + c0), load8(below + c0 - 1), load8(below + c0 + 1),
-                                         load8(above + c0 - 1), load8(above + c0 + 1), test));
-    unsigned bits = 0;
-    for (int k = 0; k < count; ++k) {
+// The lanes of samples c0 … c0 + count − 1 (count ≤ 8); columns wrap periodically over `cols`.
+// Eight at once (AVX, or two SSE halves) away from the seam. ρ only when `chirped`.
+[[gnu::always_inline]] inline SampleLanes sample_lanes(const float* below, const float* row, const float* above,
+                                                       int c0, int count, int cols, bool chirped,
+                                                       float curvature_slack) {
+    SampleLanes lanes;
+    if (c0 >= 1 && c0 + 9 <= cols && count == 8) {
+        const Float8 left = load8(row + c0 - 1), right = load8(row + c0 + 1);
+        const Float8 down = load8(below + c0), up = load8(above + c0);
+        lanes.dx = right - left;
+        lanes.dy = up - down;
+        if (chirped)
+            lanes.rho = curvature_radius(left, load8(row + c0), right, down, up, load8(below + c0 - 1),
+                                         load8(below + c0 + 1), load8(above + c0 - 1), load8(above + c0 + 1),
+                                         curvature_slack);
+        return lanes;
+    }
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (int k = 0; k < 8; ++k) {
+        lanes.dx[k] = lanes.dy[k] = lanes.rho[k] = nan;
+        if (k >= count) continue;
         const int c = c0 + k;
         const int left = c == 0 ? cols - 1 : c - 1;
         const int right = c + 1 == cols ? 0 : c + 1;
-        bits |= static_cast<unsigned>(chirped_reaches(row[left], row[c], row[right], below[c], above[c], below[left],
-                                                      below[right], above[left], above[right], test))
-                << k;
+        lanes.dx[k] = row[right] - row[left];
+        lanes.dy[k] = above[c] - below[c];
+        if (chirped)
+            lanes.rho[k] = curvature_radius(row[left], row[c], row[right], below[c], above[c], below[left], below[right],
+                                            above[left], above[right], curvature_slack);
     }
-    return bits;
+    return lanes;
 }
 
-// K = 1, one y-up kernel row: the kernels of the leaves leaf_columns[0 … leaf_count) inside the
-// window's chord [first, last] for which within(c0, count) sets their bit (bit k: column c0 + k),
-// their columns listed in `columns` and counted. 8 slots are written per leaf and the count
-// advanced by its survivors, so that no branch depends on which kernels survive.
-template <typename Within>
-[[gnu::always_inline]] inline std::size_t list_survivors(int cols, const int* leaf_columns, std::size_t leaf_count,
-                                                         long long first, long long last, int* columns,
-                                                         const Within& within) {
-    std::size_t count = 0;
+// The lanes whose differences lie within the bounds, as bits (bit k: lane k).
+[[gnu::always_inline]] inline unsigned differences_within(const SampleLanes& lanes, const DifferenceBounds& bounds) {
+    return lane_bits((lanes.dx >= bounds.x_lo) & (lanes.dx <= bounds.x_hi) & (lanes.dy >= bounds.y_lo) &
+                     (lanes.dy <= bounds.y_hi));
+}
+
+// The lanes whose kernels pass their own chirped reach, as bits.
+[[gnu::always_inline]] inline unsigned chirped_within(const SampleLanes& lanes, const ChirpedDifferenceTest& test) {
+    const Float8 epsilon = test.curvature_scale * lanes.rho;
+    const Float8 limit = test.half_width2 * (1.0f + epsilon * epsilon);
+    const Float8 off_x = max_of(abs_of(lanes.dx - test.centre_x) - test.slack_x, Float8{} + 0.0f);
+    const Float8 off_y = max_of(abs_of(lanes.dy - test.centre_y) - test.slack_y, Float8{} + 0.0f);
+    return lane_bits((off_x * off_x <= limit) & (off_y * off_y <= limit));
+}
+
+// One aim's test of a row's lanes (K = 1): its chirped test at second order where it has one,
+// else its difference bounds (which keep every kernel at second order).
+struct RowTest {
+    DifferenceBounds bounds;
+    std::optional<ChirpedDifferenceTest> chirped;
+};
+
+// K = 1, one y-up kernel row, for several aims at once: for each leaf leaf_columns[i] (i <
+// leaf_count, ascending) inside the window's chord [first, last], its samples' lanes once, then
+// for each aim a of leaf_aims[i] the kernels that pass tests[a], their columns appended at
+// columns + a·stride and counted in counts[a]. 8 slots are written per leaf and aim and the
+// count advanced by its survivors, so that no branch depends on which kernels survive.
+GLINTSCOPE_OUT_OF_LINE_CLONES
+void list_row_survivors(const float* below, const float* row, const float* above, int cols, const int* leaf_columns,
+                        const std::uint64_t* leaf_aims, std::size_t leaf_count, long long first, long long last,
+                        bool chirped, float curvature_slack, const RowTest* tests, int* columns, std::size_t stride,
+                        std::size_t* counts) {
     std::size_t leaf = 0;
     while (leaf < leaf_count && (leaf_columns[leaf] + 1LL) * kLeafKernels <= first) ++leaf;
     for (; leaf < leaf_count && leaf_columns[leaf] * static_cast<long long>(kLeafKernels) <= last; ++leaf) {
@@ -292,39 +308,26 @@ template <typename Within>
         const long long skip_left = std::clamp<long long>(first - c0, 0, kLeafKernels);
         const long long skip_right = std::clamp<long long>(c0 + kLeafKernels - 1 - last, 0, kLeafKernels);
         const unsigned chord = (0xFFu << skip_left) & (0xFFu >> skip_right);
-        const unsigned bits = chord & within(c0, std::min(kLeafKernels, cols - c0));
-        // columns[count + k] = c0 + position k, for all 8 slots at once.
-        const SetBits& set = kSetBits[bits];
-        const __m128i positions = _mm_unpacklo_epi8(
-            _mm_loadl_epi64(reinterpret_cast<const __m128i*>(set.positions.data())), _mm_setzero_si128());
+        const SampleLanes lanes =
+            sample_lanes(below, row, above, c0, std::min(kLeafKernels, cols - c0), cols, chirped, curvature_slack);
         const __m128i base = _mm_set1_epi32(c0);
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(columns + count),
-                         _mm_add_epi32(_mm_unpacklo_epi16(positions, _mm_setzero_si128()), base));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(columns + count + 4),
-                         _mm_add_epi32(_mm_unpackhi_epi16(positions, _mm_setzero_si128()), base));
-        count += set.count;
+        for (std::uint64_t aims = leaf_aims[leaf]; aims != 0; aims &= aims - 1) {
+            const int a = std::countr_zero(aims);
+            const RowTest& test = tests[a];
+            const unsigned bits =
+                chord & (test.chirped ? chirped_within(lanes, *test.chirped) : differences_within(lanes, test.bounds));
+            // columns[count + k] = c0 + position k, for all 8 slots at once.
+            const SetBits& set = kSetBits[bits];
+            const __m128i positions = _mm_unpacklo_epi8(
+                _mm_loadl_epi64(reinterpret_cast<const __m128i*>(set.positions.data())), _mm_setzero_si128());
+            int* out = columns + a * stride + counts[a];
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(out),
+                             _mm_add_epi32(_mm_unpacklo_epi16(positions, _mm_setzero_si128()), base));
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 4),
+                             _mm_add_epi32(_mm_unpackhi_epi16(positions, _mm_setzero_si128()), base));
+            counts[a] += set.count;
+        }
     }
-    return count;
-}
-
-// list_survivors with one set of difference bounds for every kernel (first order).
-GLINTSCOPE_OUT_OF_LINE_CLONES
-std::size_t list_row_survivors(const float* below, const float* row, const float* above, int cols,
-                               const int* leaf_columns, std::size_t leaf_count, long long first, long long last,
-                               const DifferenceBounds& bounds, int* columns) {
-    return list_survivors(cols, leaf_columns, leaf_count, first, last, columns, [&](int c0, int count) {
-        return differences_within(below, row, above, c0, count, cols, bounds);
-    });
-}
-
-// list_survivors with each kernel's own chirped reach (second order).
-GLINTSCOPE_OUT_OF_LINE_CLONES
-std::size_t list_chirped_row_survivors(const float* below, const float* row, const float* above, int cols,
-                                       const int* leaf_columns, std::size_t leaf_count, long long first,
-                                       long long last, const ChirpedDifferenceTest& test, int* columns) {
-    return list_survivors(cols, leaf_columns, leaf_count, first, last, columns, [&](int c0, int count) {
-        return chirped_differences_within(below, row, above, c0, count, cols, test);
-    });
 }
 
 // The directional test at the pruning wavelength, for node boxes and single kernels.
@@ -376,9 +379,9 @@ struct DirectionalReach {
         return bounds;
     }
     // Second order (K = 1): the test of each kernel against its own chirped reach, for samples dx
-    // apart whose neighbours differ by at most largest_step; none where its float constants
-    // would leave float's range (ξ3/λ → 0 or → ∞: then every kernel is kept).
-    std::optional<ChirpedDifferenceTest> chirped_difference_test(double texel_um, float largest_step) const {
+    // apart; none where its float constants would leave float's range (ξ3/λ → 0 or → ∞: then
+    // every kernel is kept).
+    std::optional<ChirpedDifferenceTest> chirped_difference_test(double texel_um) const {
         const double to_difference = 2.0 * texel_um / xi3_over_lambda;
         const double centre_x = -vx * to_difference;
         const double centre_y = -vy * to_difference;
@@ -393,8 +396,7 @@ struct DirectionalReach {
                                      round_up(0x1p-20 * std::fabs(centre_x)),
                                      round_up(0x1p-20 * std::fabs(centre_y)),
                                      round_up(widened * widened),
-                                     round_up(curvature_scale),
-                                     round_up(0x1p-18 * double(largest_step))};
+                                     round_up(curvature_scale)};
     }
 };
 
@@ -681,11 +683,20 @@ namespace {
 
 // Scratch space of the collector, kept per thread across queries so that a query allocates
 // nothing once warm.
+// A hierarchy node of one level and the directions (bits of aims) whose reach it may hold.
+struct NodeAims {
+    int column, row;
+    std::uint64_t aims;
+};
+
 struct CollectScratch {
-    std::vector<std::pair<int, int>> nodes;  // (column, row) of one level's nodes
-    std::vector<std::pair<int, int>> children;
-    std::vector<unsigned char> leaf_map;     // over the footprint's leaves: 1 if it survives
-    std::vector<int> leaf_columns;           // the surviving leaves of one leaf row
+    std::vector<NodeAims> nodes;  // one level's nodes
+    std::vector<NodeAims> children;
+    std::vector<std::uint64_t> leaf_map;     // over the footprint's leaves: the aims it survives for
+    std::vector<int> leaf_columns;           // the surviving leaves of one leaf row (for any aim)
+    std::vector<std::uint64_t> leaf_aims;    // parallel to leaf_columns
+    std::vector<RowTest> row_tests;          // K = 1: each aim's test of a row's samples
+    std::vector<std::size_t> survivor_counts;  // K = 1: per aim, the survivors listed on one row
     std::vector<SurfacePoint> block;
     std::vector<int> survivor_columns;       // K = 1: kernels of one row that survive pruning
     SeparableWeights weights;
@@ -697,49 +708,64 @@ struct LeafRange {
     int width() const { return x1 - x0 + 1; }
 };
 
+// One direction pair's pruning tests and the kernels it collects.
+struct Aim {
+    DirectionalReach reach;
+    gabor::KernelArrays* kernels;
+};
+
+// At most this many aims share one walk: their sets are bits of a 64-bit mask.
+constexpr std::size_t kMaxAims = 64;
+
 }  // namespace
 
-// One point query's walk (Yan 2018 §5): for each tile copy the footprint overlaps, find the
-// leaves that survive pruning, then append the kernels of those leaves that survive too.
+// One footprint's walk (Yan 2018 §5) for up to kMaxAims direction pairs at once: for each tile
+// copy the footprint overlaps, find the leaves that survive pruning for any of them, then append
+// to each pair's kernels those of its leaves that survive its tests. What depends only on the
+// footprint (the window, its chords and weights, the tiles and the walk's nodes) is done once;
+// each pair's kernels are exactly, and in the same order, those a walk for it alone appends.
 struct GaborSurface::Collector {
     const GaborSurface& surface;
-    const GaborPointQuery& query;
-    gabor::KernelArrays& kernels;
     const gabor::KernelGrid grid;
     const gabor::CoherenceWindow window;
-    const DirectionalReach reach;
     const bool sampled;  // K = 1: the kernels are the samples
     const bool chirped;  // second order: each node's reach widens with its curvature radius
-    const DifferenceBounds difference_bounds;  // K = 1: of every kernel at first order (all kept when chirped)
-    const std::optional<ChirpedDifferenceTest> chirped_test;  // K = 1, second order: each kernel's own reach
+    std::vector<Aim>& aims;
+    const std::uint64_t every_aim;
     const Point2 centre;
     const double reference_height;
     const double weight_scale;
     const Point2 extent;
+    // K = 1, second order: the rounding slack of ρ, 2^-18 of the largest step between
+    // neighbouring samples (ChirpedDifferenceTest).
+    const float curvature_slack;
     CollectScratch& scratch;
     GaborQueryStatistics counts;
 
-    Collector(const GaborSurface& surface, const GaborPointQuery& query, double prune_lambda_um,
-              gabor::KernelArrays& kernels, CollectScratch& scratch)
+    // `aims` holds the pairs' reaches and kernels; their tests are set here.
+    Collector(const GaborSurface& surface, const Footprint& footprint, std::vector<Aim>& aims, CollectScratch& scratch)
         : surface(surface),
-          query(query),
-          kernels(kernels),
           grid(gabor::kernel_grid(surface.surface_->texel_um(), surface.settings_)),
-          window(query.footprint, surface.settings_.footprint_sigmas),
-          reach(directional_reach(query, prune_lambda_um, grid)),
+          window(footprint, surface.settings_.footprint_sigmas),
           sampled(grid.kernels_per_texel == 1),
           chirped(grid.order == 2),
-          difference_bounds(sampled ? reach.difference_bounds(grid.spacing_um, chirped ? kKeepEvery : reach.reach)
-                                    : DifferenceBounds{}),
-          chirped_test(sampled && chirped
-                           ? reach.chirped_difference_test(grid.spacing_um, surface.hierarchy_->largest_step)
-                           : std::nullopt),
-          centre(query.footprint.centre_um),
+          aims(aims),
+          every_aim(aims.size() == kMaxAims ? ~std::uint64_t{0} : (std::uint64_t{1} << aims.size()) - 1),
+          centre(footprint.centre_um),
           reference_height(surface.surface_->height(centre.x, centre.y)),
           weight_scale(grid.spacing_um * grid.spacing_um),
           extent(window.half_extent_um()),
+          curvature_slack(round_up(0x1p-18 * double(surface.hierarchy_->largest_step))),
           scratch(scratch) {
         window.check_kernel_count(grid);
+        if (!sampled) return;
+        scratch.row_tests.clear();
+        scratch.survivor_counts.resize(aims.size());
+        // Of every kernel at first order (all kept when chirped); second order: each kernel's own reach.
+        for (const Aim& aim : aims)
+            scratch.row_tests.push_back(
+                {aim.reach.difference_bounds(grid.spacing_um, chirped ? kKeepEvery : aim.reach.reach),
+                 chirped ? aim.reach.chirped_difference_test(grid.spacing_um) : std::nullopt});
     }
 
     static DirectionalReach directional_reach(const GaborPointQuery& query, double lambda_um,
@@ -749,8 +775,8 @@ struct GaborSurface::Collector {
                 grid.reach * kReachMargin, grid.order == 2 ? grid.chirp_scale : 0.0};
     }
 
-    // The directional reach of a node: widened by its curvature radius at second order.
-    double node_reach(const gabor::Level& level, std::size_t index) const {
+    // The directional reach of a node for one aim: widened by its curvature radius at second order.
+    double node_reach(const DirectionalReach& reach, const gabor::Level& level, std::size_t index) const {
         return chirped ? reach.reach_within(level.curvature_radii[index]) : reach.reach;
     }
 
@@ -813,22 +839,29 @@ struct GaborSurface::Collector {
         scratch.nodes.clear();
         for (int iy = range.y0 >> start; iy <= range.y1 >> start; ++iy)
             for (int ix = range.x0 >> start; ix <= range.x1 >> start; ++ix)
-                if (node_overlaps(cx, cy, start, ix, iy)) scratch.nodes.emplace_back(ix, iy);
+                if (node_overlaps(cx, cy, start, ix, iy)) scratch.nodes.push_back({ix, iy, every_aim});
         for (int level_index = start; level_index >= 0; --level_index) {
             scratch.children.clear();
-            for (const auto& [ix, iy] : scratch.nodes) visit_node(cx, cy, range, level_index, ix, iy);
+            for (const NodeAims& node : scratch.nodes) visit_node(cx, cy, range, level_index, node);
             std::swap(scratch.nodes, scratch.children);
         }
     }
 
-    // A node that reaches the query: a leaf is marked, a parent's overlapping children are queued.
-    void visit_node(double cx, double cy, const LeafRange& range, int level_index, int ix, int iy) {
+    // A node that reaches some of its aims: a leaf is marked with them, a parent's overlapping
+    // children are queued with them.
+    void visit_node(double cx, double cy, const LeafRange& range, int level_index, const NodeAims& node) {
+        const int ix = node.column, iy = node.row;
         const gabor::Level& level = surface.hierarchy_->levels[level_index];
         ++counts.nodes_visited;
         const std::size_t index = static_cast<std::size_t>(iy) * level.nx + ix;
-        if (!reach.box_reaches(level.boxes[index], node_reach(level, index))) return;
+        std::uint64_t reached = 0;
+        for (std::uint64_t left = node.aims; left != 0; left &= left - 1) {
+            const DirectionalReach& reach = aims[std::countr_zero(left)].reach;
+            if (reach.box_reaches(level.boxes[index], node_reach(reach, level, index))) reached |= left & -left;
+        }
+        if (reached == 0) return;
         if (level_index == 0) {
-            scratch.leaf_map[static_cast<std::size_t>(iy - range.y0) * range.width() + (ix - range.x0)] = 1;
+            scratch.leaf_map[static_cast<std::size_t>(iy - range.y0) * range.width() + (ix - range.x0)] = reached;
             if (!sampled) {
                 __builtin_prefetch(&surface.hierarchy_->leaf_codes[index]);
                 __builtin_prefetch(reinterpret_cast<const char*>(&surface.hierarchy_->leaf_codes[index]) + 64);
@@ -844,30 +877,29 @@ struct GaborSurface::Collector {
                 if (child_x < range.x0 >> shift || child_x > range.x1 >> shift || child_y < range.y0 >> shift ||
                     child_y > range.y1 >> shift || !node_overlaps(cx, cy, shift, child_x, child_y))
                     continue;
-                scratch.children.emplace_back(child_x, child_y);
+                scratch.children.push_back({child_x, child_y, reached});
                 __builtin_prefetch(&below.boxes[static_cast<std::size_t>(child_y) * below.nx + child_x]);
             }
     }
 
-    // K = 1: the kernels of the surviving leaves inside the window's chord [first, last] on
-    // kernel row j, tested on their samples' central differences. The survivors' columns are
-    // listed first, 8 slots written per leaf and the count of survivors kept, so that no branch
-    // depends on which kernels survive; then their H and H' (sample_point's arithmetic, with the
-    // row's neighbours fixed) go straight into the kernel arrays.
-    void add_sampled_row(double cx, double cy, int j, long long first, long long last) {
+    // K = 1: for each aim, the kernels of its surviving leaves inside the window's chord [first,
+    // last] on kernel row j, tested on their samples' central differences (computed once for all
+    // aims). The survivors' columns are listed first, 8 slots written per leaf and the count of
+    // survivors kept, so that no branch depends on which kernels survive; then their H and H'
+    // (sample_point's arithmetic, with the row's neighbours fixed) go straight into each aim's
+    // kernel arrays. stride: the columns each aim may list.
+    void add_sampled_row(double cx, double cy, int j, long long first, long long last, std::size_t stride) {
         const int rows = surface.hierarchy_->kernels_y;
         const float* row = surface.surface_->sample_row(j);
         const float* below = surface.surface_->sample_row(j == 0 ? rows - 1 : j - 1);
         const float* above = surface.surface_->sample_row(j + 1 == rows ? 0 : j + 1);
         int* columns = scratch.survivor_columns.data();
         const int cols = surface.hierarchy_->kernels_x;
-        const std::vector<int>& leaves = scratch.leaf_columns;
-        const std::size_t count =
-            chirped_test ? list_chirped_row_survivors(below, row, above, cols, leaves.data(), leaves.size(), first,
-                                                      last, *chirped_test, columns)
-                         : list_row_survivors(below, row, above, cols, leaves.data(), leaves.size(), first, last,
-                                              difference_bounds, columns);
-        counts.kernels_evaluated += count;
+        std::size_t* survivors = scratch.survivor_counts.data();
+        std::fill(survivors, survivors + aims.size(), std::size_t{0});
+        list_row_survivors(below, row, above, cols, scratch.leaf_columns.data(), scratch.leaf_aims.data(),
+                           scratch.leaf_columns.size(), first, last, chirped, curvature_slack,
+                           scratch.row_tests.data(), columns, stride, survivors);
         const SampledRow sampled_row{below,
                                      row,
                                      above,
@@ -880,13 +912,17 @@ struct GaborSurface::Collector {
                                      scratch.weights.columns(),
                                      scratch.weights.first_column(),
                                      chirped};
-        append_sampled_kernels(sampled_row, columns, count, kernels);
+        for (std::size_t a = 0; a < aims.size(); ++a) {
+            if (survivors[a] == 0) continue;
+            counts.kernels_evaluated += survivors[a];
+            append_sampled_kernels(sampled_row, columns + a * stride, survivors[a], *aims[a].kernels);
+        }
     }
 
     // K > 1: per surviving leaf, the kernels inside the window whose codes may reach; the leaf's
     // block of the kernel grid is interpolated once if any are left.
-    void add_coded_leaf(double cx, double cy, int leaf_row, int leaf_column, const long long* first,
-                        const long long* last) {
+    void add_coded_leaf(double cx, double cy, int leaf_row, int leaf_column, std::uint64_t leaf_aims,
+                        const long long* first, const long long* last) {
         const int i0 = leaf_column * kLeafKernels;
         const int j0 = leaf_row * kLeafKernels;
         const int nx = std::min(kLeafKernels, surface.hierarchy_->kernels_x - i0);
@@ -903,20 +939,29 @@ struct GaborSurface::Collector {
         const std::size_t index = static_cast<std::size_t>(leaf_row) * surface.hierarchy_->levels.front().nx + leaf_column;
         const gabor::LeafCodes& codes = surface.hierarchy_->leaf_codes[index];
         const gabor::Level& leaves = surface.hierarchy_->levels.front();
-        std::uint64_t bits =
-            inside & reach.leaf_reaches(leaves.boxes[index], codes.x, codes.y, node_reach(leaves, index));
-        if (bits == 0) return;
-        scratch.block.resize(static_cast<std::size_t>(kLeafKernels) * kLeafKernels);
-        gabor::evaluate_kernels(*surface.surface_, grid, i0, j0, nx, ny, scratch.block.data());
-        counts.kernels_evaluated += static_cast<std::size_t>(nx) * ny;
-        for (; bits != 0; bits &= bits - 1) {
-            const int k = std::countr_zero(bits);
-            const int i = i0 + k % kLeafKernels;
-            const int j = j0 + k / kLeafKernels;
-            kernels.push(grid.centre(i) - cx, grid.centre(j) - cy,
-                         scratch.block[static_cast<std::size_t>(k / kLeafKernels) * nx + k % kLeafKernels],
-                         reference_height, scratch.weights.along_x(i) * scratch.weights.along_y(j) * weight_scale);
-            if (chirped) kernels.set_curvature(kernels.size() - 1, gabor::kernel_curvature(*surface.surface_, grid, i, j));
+        bool evaluated = false;  // the leaf's block, interpolated for the first aim that needs it
+        for (; leaf_aims != 0; leaf_aims &= leaf_aims - 1) {
+            Aim& aim = aims[std::countr_zero(leaf_aims)];
+            std::uint64_t bits =
+                inside & aim.reach.leaf_reaches(leaves.boxes[index], codes.x, codes.y, node_reach(aim.reach, leaves, index));
+            if (bits == 0) continue;
+            if (!evaluated) {
+                scratch.block.resize(static_cast<std::size_t>(kLeafKernels) * kLeafKernels);
+                gabor::evaluate_kernels(*surface.surface_, grid, i0, j0, nx, ny, scratch.block.data());
+                evaluated = true;
+            }
+            counts.kernels_evaluated += static_cast<std::size_t>(nx) * ny;
+            gabor::KernelArrays& kernels = *aim.kernels;
+            for (; bits != 0; bits &= bits - 1) {
+                const int k = std::countr_zero(bits);
+                const int i = i0 + k % kLeafKernels;
+                const int j = j0 + k / kLeafKernels;
+                kernels.push(grid.centre(i) - cx, grid.centre(j) - cy,
+                             scratch.block[static_cast<std::size_t>(k / kLeafKernels) * nx + k % kLeafKernels],
+                             reference_height, scratch.weights.along_x(i) * scratch.weights.along_y(j) * weight_scale);
+                if (chirped)
+                    kernels.set_curvature(kernels.size() - 1, gabor::kernel_curvature(*surface.surface_, grid, i, j));
+            }
         }
     }
 
@@ -936,15 +981,16 @@ struct GaborSurface::Collector {
                 last[j - j0] = i1 - 1;
             }
         if (sampled) {
-            // + 8: unpacking writes 8 slots past the survivors.
-            scratch.survivor_columns.resize(
-                std::max(scratch.survivor_columns.size(), leaf_columns.size() * kLeafKernels + 8));
+            // + 8: unpacking writes 8 slots past each aim's survivors.
+            const std::size_t stride = leaf_columns.size() * kLeafKernels + 8;
+            scratch.survivor_columns.resize(std::max(scratch.survivor_columns.size(), aims.size() * stride));
             for (int j = j0; j < j1; ++j)
-                if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0]);
+                if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0], stride);
             return;
         }
-        kernels.reserve_more(leaf_columns.size() * kLeafKernels * kLeafKernels);
-        for (const int leaf_column : leaf_columns) add_coded_leaf(cx, cy, leaf_row, leaf_column, first, last);
+        for (Aim& aim : aims) aim.kernels->reserve_more(leaf_columns.size() * kLeafKernels * kLeafKernels);
+        for (std::size_t k = 0; k < leaf_columns.size(); ++k)
+            add_coded_leaf(cx, cy, leaf_row, leaf_columns[k], scratch.leaf_aims[k], first, last);
     }
 
     // The footprint centre expressed in one tile copy's coordinates (cx, cy): its leaves.
@@ -958,10 +1004,14 @@ struct GaborSurface::Collector {
         for (int leaf_row = range.y0; leaf_row <= range.y1; ++leaf_row) {
             if (sampled) prefetch_samples(range, leaf_row + kPrefetchLeafRows);
             scratch.leaf_columns.clear();
-            const unsigned char* marks =
+            scratch.leaf_aims.clear();
+            const std::uint64_t* marks =
                 &scratch.leaf_map[static_cast<std::size_t>(leaf_row - range.y0) * range.width()];
             for (int k = 0; k < range.width(); ++k)
-                if (marks[k]) scratch.leaf_columns.push_back(range.x0 + k);
+                if (marks[k]) {
+                    scratch.leaf_columns.push_back(range.x0 + k);
+                    scratch.leaf_aims.push_back(marks[k]);
+                }
             if (!scratch.leaf_columns.empty()) add_leaf_row(cx, cy, leaf_row);
         }
     }
@@ -980,12 +1030,29 @@ struct GaborSurface::Collector {
 
 void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
                            GaborQueryStatistics* statistics) const {
+    gabor::KernelArrays* const target = &kernels;
+    collect(query, &query.omega_i, 1, prune_lambda_um, &target, statistics);
+}
+
+void GaborSurface::collect(const GaborPointQuery& query, const Vec3* omegas_i, std::size_t count,
+                           double prune_lambda_um, gabor::KernelArrays* const* kernels,
+                           GaborQueryStatistics* statistics) const {
     thread_local CollectScratch scratch;
-    Collector collector(*this, query, prune_lambda_um, kernels, scratch);
-    collector.add_tile_copies();
-    if (statistics) {
-        statistics->nodes_visited += collector.counts.nodes_visited;
-        statistics->kernels_evaluated += collector.counts.kernels_evaluated;
+    thread_local std::vector<Aim> aims;
+    const gabor::KernelGrid grid = gabor::kernel_grid(surface_->texel_um(), settings_);
+    for (std::size_t first = 0; first < count; first += kMaxAims) {
+        aims.clear();
+        for (std::size_t k = first; k < std::min(count, first + kMaxAims); ++k) {
+            GaborPointQuery one = query;
+            one.omega_i = omegas_i[k];
+            aims.push_back({Collector::directional_reach(one, prune_lambda_um, grid), kernels[k]});
+        }
+        Collector collector(*this, query.footprint, aims, scratch);
+        collector.add_tile_copies();
+        if (statistics) {
+            statistics->nodes_visited += collector.counts.nodes_visited;
+            statistics->kernels_evaluated += collector.counts.kernels_evaluated;
+        }
     }
 }
 
@@ -1083,6 +1150,25 @@ void check_wavelength(double lambda_um) {
     if (!(lambda_um > 0.0 && std::isfinite(lambda_um))) throw Error("gabor: wavelengths must be positive and finite");
 }
 
+// f_r at each wavelength from the kernels collected at the longest one (ascending: the
+// wavelengths sorted), into values[0 … wavelengths).
+void values_of_kernels(const GaborPointQuery& query, const gabor::KernelArrays& collected,
+                       const std::vector<double>& wavelengths_um, const std::vector<double>& ascending,
+                       const gabor::KernelGrid& grid, double area_um2, GaborQueryStatistics* statistics,
+                       double* values) {
+    if (wavelengths_um.size() == 1) {
+        values[0] = brdf_of_kernels(query, collected, collected.size(), wavelengths_um[0], grid, area_um2, statistics);
+        return;
+    }
+    thread_local gabor::KernelArrays ordered;
+    const std::vector<std::size_t> prefix = order_by_first_wavelength(query, grid, ascending, collected, ordered);
+    for (std::size_t i = 0; i < wavelengths_um.size(); ++i) {
+        const double lambda = wavelengths_um[i];
+        const auto reached = std::upper_bound(ascending.begin(), ascending.end(), lambda) - ascending.begin();
+        values[i] = brdf_of_kernels(query, ordered, prefix[reached], lambda, grid, area_um2, statistics);
+    }
+}
+
 }  // namespace
 
 double GaborSurface::f_r(const GaborPointQuery& query, double lambda_um, GaborQueryStatistics* statistics) const {
@@ -1097,35 +1183,60 @@ double GaborSurface::f_r(const GaborPointQuery& query, double lambda_um, GaborQu
     return brdf_of_kernels(query, collected, collected.size(), lambda_um, grid, area, statistics);
 }
 
+// A kernel's directional box, in slope space, is |ψ̄ + ξ3 H'| ≤ reach·λ: widest at the longest
+// wavelength, so the kernels are collected there, and those pruned there are pruned at every
+// wavelength.
 std::vector<double> GaborSurface::f_r(const GaborPointQuery& query, const std::vector<double>& wavelengths_um,
                                       GaborQueryStatistics* statistics) const {
     check_finite(query);
     for (double lambda : wavelengths_um) check_wavelength(lambda);
     std::vector<double> values(wavelengths_um.size(), 0.0);
     if (wavelengths_um.empty() || query.omega_i.z <= 0.0 || query.omega_o.z <= 0.0) return values;
-    if (wavelengths_um.size() == 1) {
-        values[0] = f_r(query, wavelengths_um[0], statistics);
-        return values;
-    }
-
-    // A kernel's directional box, in slope space, is |ψ̄ + ξ3 H'| ≤ reach·λ: widest at the longest
-    // wavelength, so the kernels pruned there are pruned at every wavelength.
     std::vector<double> ascending = wavelengths_um;
     std::sort(ascending.begin(), ascending.end());
     thread_local gabor::KernelArrays collected;
     collected.clear();
     collect(query, ascending.back(), collected, statistics);
-
     const gabor::KernelGrid grid = gabor::kernel_grid(surface_->texel_um(), settings_);
     const double area = gabor::CoherenceWindow(query.footprint, settings_.footprint_sigmas).area_um2();
+    values_of_kernels(query, collected, wavelengths_um, ascending, grid, area, statistics, values.data());
+    return values;
+}
 
-    thread_local gabor::KernelArrays ordered;
-    const std::vector<std::size_t> prefix = order_by_first_wavelength(query, grid, ascending, collected, ordered);
-
-    for (std::size_t i = 0; i < wavelengths_um.size(); ++i) {
-        const double lambda = wavelengths_um[i];
-        const auto reached = std::upper_bound(ascending.begin(), ascending.end(), lambda) - ascending.begin();
-        values[i] = brdf_of_kernels(query, ordered, prefix[reached], lambda, grid, area, statistics);
+std::vector<double> GaborSurface::f_r(const GaborPointQuery& query, const std::vector<Vec3>& omegas_i,
+                                      const std::vector<double>& wavelengths_um) const {
+    GaborPointQuery one = query;
+    for (const Vec3 omega_i : omegas_i) {
+        one.omega_i = omega_i;
+        check_finite(one);
+    }
+    for (double lambda : wavelengths_um) check_wavelength(lambda);
+    const std::size_t layers = wavelengths_um.size();
+    std::vector<double> values(omegas_i.size() * layers, 0.0);
+    if (layers == 0 || query.omega_o.z <= 0.0) return values;
+    // The directions above the horizon (the others' f_r stays 0), each with its kernels.
+    std::vector<std::size_t> lit;
+    std::vector<Vec3> lit_omegas;
+    for (std::size_t d = 0; d < omegas_i.size(); ++d)
+        if (omegas_i[d].z > 0.0) {
+            lit.push_back(d);
+            lit_omegas.push_back(omegas_i[d]);
+        }
+    thread_local std::vector<gabor::KernelArrays> collected;
+    if (collected.size() < lit.size()) collected.resize(lit.size());
+    std::vector<gabor::KernelArrays*> targets;
+    for (std::size_t k = 0; k < lit.size(); ++k) {
+        collected[k].clear();
+        targets.push_back(&collected[k]);
+    }
+    std::vector<double> ascending = wavelengths_um;
+    std::sort(ascending.begin(), ascending.end());
+    collect(query, lit_omegas.data(), lit_omegas.size(), ascending.back(), targets.data(), nullptr);
+    const gabor::KernelGrid grid = gabor::kernel_grid(surface_->texel_um(), settings_);
+    const double area = gabor::CoherenceWindow(query.footprint, settings_.footprint_sigmas).area_um2();
+    for (std::size_t k = 0; k < lit.size(); ++k) {
+        one.omega_i = lit_omegas[k];
+        values_of_kernels(one, collected[k], wavelengths_um, ascending, grid, area, nullptr, &values[lit[k] * layers]);
     }
     return values;
 }

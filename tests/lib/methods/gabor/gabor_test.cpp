@@ -398,6 +398,45 @@ TEST(GaborSurface, FootprintWrapsAroundThePeriodicField) {
     }
 }
 
+// A renderer's lights at one shading point: f_r at many ω_i in one walk of the hierarchy equals
+// f_r of each ω_i alone bit for bit (the same kernels, summed in the same order), at both orders
+// and densities, single λ and spectral, for a footprint inside the field and one across its
+// corner, with more directions than one walk takes (64) and one below the horizon (f_r 0).
+TEST(GaborSurface, SeveralIncidentDirectionsInOneWalkEqualEachAlone) {
+    const LobeQuery query = isotropic_query(16);
+    std::vector<Vec3> omegas_i;
+    for (int k = 0; k < 70; ++k)  // a sweep across the lobe's peak and beyond
+        omegas_i.push_back(direction_from_spherical(0.2 + 0.012 * k, 0.3 + 0.01 * k));
+    omegas_i[5] = {0.3, 0.1, -0.2};
+    const std::vector<std::vector<double>> wavelength_sets{{0.4}, {0.7, 0.45, 0.55}};
+    for (const auto& [order, density] : {std::pair{1, 1}, {2, 1}, {1, 2}, {2, 2}}) {
+        GaborSettings settings;
+        settings.kernels_per_texel = density;
+        settings.order = order;
+        const GaborSurface surface(query.surface, settings);
+        int nonzero = 0;
+        for (const Point2 centre : {query.footprint.centre_um, Point2{3.0, 1020.0}})
+            for (const std::vector<double>& wavelengths : wavelength_sets)
+                for (const Vec3 omega_o : {direction_from_spherical(0.5, 0.3 + pi), direction_from_spherical(0.8, 3.9)}) {
+                    GaborPointQuery point{query.footprint, {0.0, 0.0, 1.0}, omega_o, DiffractionModel::rohs, {}};
+                    point.footprint.centre_um = centre;
+                    const std::vector<double> together = surface.f_r(point, omegas_i, wavelengths);
+                    ASSERT_EQ(together.size(), omegas_i.size() * wavelengths.size());
+                    for (std::size_t d = 0; d < omegas_i.size(); ++d) {
+                        point.omega_i = omegas_i[d];
+                        const std::vector<double> alone = surface.f_r(point, wavelengths);
+                        for (std::size_t w = 0; w < wavelengths.size(); ++w) {
+                            EXPECT_EQ(together[d * wavelengths.size() + w], alone[w])
+                                << "order " << order << " K = " << density << " direction " << d << " lambda "
+                                << wavelengths[w];
+                            nonzero += alone[w] > 0.0;
+                        }
+                    }
+                }
+        EXPECT_GT(nonzero, 300) << "order " << order << " K = " << density;  // glints, not zeros
+    }
+}
+
 // ---- Threads and errors -----------------------------------------------------------------------
 
 TEST(GaborLobe, IdenticalForAnyThreadCount) {

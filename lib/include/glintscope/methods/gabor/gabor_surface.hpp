@@ -88,6 +88,14 @@ public:
     std::vector<double> f_r(const GaborPointQuery& query, const std::vector<double>& wavelengths_um,
                             GaborQueryStatistics* statistics = nullptr) const;
 
+    // f_r at several incident directions (query.omega_i unused), direction-major: value
+    // [d · wavelengths + w] is f_r(query with omegas_i[d], wavelengths_um[w]), equal bit for bit to
+    // f_r of each direction alone. One walk of the hierarchy serves all directions: the nodes are
+    // pruned against the union of their reaches, and each direction then tests and sums the
+    // kernels of its own surviving leaves (renderers' light sweeps: one footprint, many lights).
+    std::vector<double> f_r(const GaborPointQuery& query, const std::vector<Vec3>& omegas_i,
+                            const std::vector<double>& wavelengths_um) const;
+
     const GaborSettings& settings() const { return settings_; }
     std::size_t memory_bytes() const;  // of the hierarchy (the interpolant is shared)
 
@@ -97,6 +105,10 @@ private:
     // Appends the kernels that survive pruning at `prune_lambda_um`, heights relative to H(x_c).
     void collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
                  GaborQueryStatistics* statistics) const;
+    // The same for each of omegas_i[0 … count) (query.omega_i unused) into *kernels[d], in one
+    // walk per 64 directions.
+    void collect(const GaborPointQuery& query, const Vec3* omegas_i, std::size_t count, double prune_lambda_um,
+                 gabor::KernelArrays* const* kernels, GaborQueryStatistics* statistics) const;
 
     std::shared_ptr<const BicubicInterpolant> surface_;
     GaborSettings settings_;
