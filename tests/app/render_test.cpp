@@ -89,7 +89,7 @@ namespace {
 
 // --light-sweep: one EXR and PNG per frame, one exposure for all, and a contact sheet whose
 // tiles are the frames' PNGs pixel for pixel (2 × 2 for 3 frames, the fourth black), 2 grey
-// pixels apart.
+// pixels apart, each under a 20-pixel grey strip with white label text (none over the empty tile).
 TEST(RenderCommand, ALightSweepWritesItsFramesWithOneExposureAndAContactSheetOfThem) {
     TemporaryDirectory directory;
     const auto result = run_cli(with({"render"}, with(kScene, {"--lambda", "0.4um", "--light-sweep", "3", "-o",
@@ -105,13 +105,29 @@ TEST(RenderCommand, ALightSweepWritesItsFramesWithOneExposureAndAContactSheetOfT
     };
     OIIO::ImageSpec sheet_spec;
     const std::vector<unsigned char> sheet = read(directory.file("s-sheet.png"), sheet_spec);
+    constexpr std::size_t kStrip = 20, kTile = kStrip + 12;
     ASSERT_EQ(sheet_spec.width, 42);
-    ASSERT_EQ(sheet_spec.height, 26);
-    for (const std::size_t i : {std::size_t(20), std::size_t(21), std::size_t(12 * 42 + 5), std::size_t(13 * 42 + 30)})
+    ASSERT_EQ(sheet_spec.height, int(2 * kTile + 2));
+    for (const std::size_t i : {std::size_t(kStrip * 42 + 20), std::size_t(kStrip * 42 + 21), kTile * 42 + 5,
+                                (kTile + 1) * 42 + 30})
         EXPECT_EQ(sheet[i * 3], 96) << "gap pixel " << i;
+    // The strips: grey with white text over the frames, all grey over the empty fourth tile.
+    const auto brightest_in_strip = [&](std::size_t left, std::size_t top) {
+        unsigned char brightest = 0;
+        for (std::size_t row = top; row < top + kStrip; ++row)
+            for (std::size_t col = left; col < left + 20; ++col) {
+                EXPECT_GE(sheet[(row * 42 + col) * 3], 96) << "strip pixel " << row << "," << col;
+                brightest = std::max(brightest, sheet[(row * 42 + col) * 3]);
+            }
+        return brightest;
+    };
+    EXPECT_GT(brightest_in_strip(0, 0), 200);
+    EXPECT_GT(brightest_in_strip(22, 0), 200);
+    EXPECT_GT(brightest_in_strip(0, kTile + 2), 200);
+    EXPECT_EQ(brightest_in_strip(22, kTile + 2), 96);
     std::string exposure;
     for (int k = 0; k < 4; ++k) {
-        const std::size_t left = (k % 2) * 22, top = (k / 2) * 14;
+        const std::size_t left = (k % 2) * 22, top = (k / 2) * (kTile + 2) + kStrip;
         std::vector<unsigned char> frame(20 * 12 * 3, 0);
         if (k < 3) {
             EXPECT_TRUE(std::filesystem::exists(directory.file("s-" + std::to_string(k) + ".exr")));

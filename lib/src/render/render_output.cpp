@@ -8,6 +8,7 @@
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "output/drawing.hpp"
 #include "output/image_files.hpp"
 
 namespace glintscope {
@@ -15,6 +16,30 @@ namespace {
 
 constexpr int kSheetGap = 2;                  // pixels between a contact sheet's frames
 constexpr std::uint8_t kSheetGapGrey = 96;    // display value of the gaps
+constexpr int kSheetLabel = 20;               // pixels of the label strip above each frame
+
+// A sweep frame's label: its number and where its (first) light is, in mm, read from the
+// metadata the frame's files record ("x,y,z:I;…" in um), so that the sheet says what its files say.
+std::string sweep_frame_label(const RenderImage& frame, std::size_t k, std::size_t count) {
+    std::string label = std::to_string(k + 1) + "/" + std::to_string(count);
+    const auto lights = frame.metadata.find("render.lights_um_w_per_sr");
+    if (lights == frame.metadata.end()) return label;
+    double x = 0.0, y = 0.0, z = 0.0;
+    if (std::sscanf(lights->second.c_str(), "%lf,%lf,%lf:", &x, &y, &z) != 3) return label;
+    return label + "  light at (" + drawing::number(x / 1000.0, 4) + ", " + drawing::number(y / 1000.0, 4) + ", " +
+           drawing::number(z / 1000.0, 4) + ") mm";
+}
+
+// The strip above a sheet's frame: its label in white on the gaps' grey, cut at the frame's width.
+void draw_sweep_label(std::vector<std::uint8_t>& sheet, int sheet_width, int sheet_height, int left, int top, int width,
+                      const std::string& label) {
+    OIIO::ImageBuf strip(OIIO::ImageSpec(width, kSheetLabel, 3, OIIO::TypeDesc::FLOAT));
+    const float grey = kSheetGapGrey / 255.0f;
+    OIIO::ImageBufAlgo::fill(strip, {grey, grey, grey});
+    drawing::text(strip, 4, (kSheetLabel - drawing::kFont) / 2, label, drawing::kWhite);
+    OIIO::ImageBuf canvas(OIIO::ImageSpec(sheet_width, sheet_height, 3, OIIO::TypeDesc::UINT8), sheet.data());
+    drawing::paste(canvas, strip, left, top);
+}
 
 void check_image(const RenderImage& image) {
     if (image.width < 1 || image.height < 1 || image.wavelengths_um.empty() ||
@@ -101,27 +126,33 @@ DisplayExposure write_sweep_pngs(const std::vector<RenderImage>& frames, const s
     const int width = frames[0].width, height = frames[0].height;
     const int columns = static_cast<int>(std::ceil(std::sqrt(double(frames.size()))));
     const int rows = static_cast<int>((frames.size() + columns - 1) / columns);
-    // Frames of glints are mostly black: grey gaps keep their edges apart; a tile without a frame is black.
-    const int sheet_width = columns * width + (columns - 1) * kSheetGap, sheet_height = rows * height + (rows - 1) * kSheetGap;
+    // Frames of glints are mostly black: grey gaps keep their edges apart; a tile without a frame
+    // is black; above each frame a strip names it and its light.
+    const int tile_height = kSheetLabel + height;
+    const int sheet_width = columns * width + (columns - 1) * kSheetGap;
+    const int sheet_height = rows * tile_height + (rows - 1) * kSheetGap;
     std::vector<std::uint8_t> sheet(std::size_t(sheet_width) * sheet_height * 3, kSheetGapGrey);
     for (std::size_t k = 0; k < std::size_t(columns) * rows; ++k) {
         std::vector<std::uint8_t> pixels(std::size_t(width) * height * 3, 0);
+        const int left = int(k % columns) * (width + kSheetGap);
+        const int top = int(k / columns) * (tile_height + kSheetGap);
         if (k < frames.size()) {
             write_render_png(frames[k], frame_paths[k], fixed);
             pixels = xyz_to_display(std::move(xyz[k]), exposure, colour);
+            draw_sweep_label(sheet, sheet_width, sheet_height, left, top, width,
+                             sweep_frame_label(frames[k], k, frames.size()));
         }
-        const std::size_t left = (k % columns) * std::size_t(width + kSheetGap);
-        const std::size_t top = (k / columns) * std::size_t(height + kSheetGap);
         for (int row = 0; row < height; ++row)
             std::copy_n(pixels.begin() + std::size_t(row) * width * 3, std::size_t(width) * 3,
-                        sheet.begin() + ((top + row) * std::size_t(sheet_width) + left) * 3);
+                        sheet.begin() + ((std::size_t(top) + kSheetLabel + row) * sheet_width + left) * 3);
     }
     OIIO::ImageSpec spec(sheet_width, sheet_height, 3, OIIO::TypeDesc::UINT8);
     add_attributes(spec, frames[0].metadata);
     Provenance facts = output_facts(frames[0], colour, "display-referred " + colour.display_space);
     facts["output.image"] = "light sweep contact sheet: " + std::to_string(frames.size()) + " frames, " +
-                            std::to_string(columns) + " per row, row-major, " + std::to_string(kSheetGap) +
-                            "-pixel grey gaps";
+                            std::to_string(columns) + " per row, row-major, each under a " +
+                            std::to_string(kSheetLabel) + "-pixel strip naming it and its first light's position, " +
+                            std::to_string(kSheetGap) + "-pixel grey gaps";
     facts["output.exposure_ev"] = shortest_text(exposure.ev);
     facts["output.exposure_rule"] = exposure.rule + ", one for every frame";
     add_attributes(spec, facts);

@@ -21,7 +21,9 @@ DisplayExposure write_render_png(const RenderImage& image, const std::string& pa
 // A light sweep's frames (light_sweep) as display PNGs with one exposure for all (the auto rule
 // over every frame's pixels, unless the settings fix it), so that brightness changes between
 // frames are real, and a contact sheet of them: a grid of ⌈√n⌉ columns, row-major, black where
-// no frame falls, the frames 2 pixels apart on grey. Returns the exposure.
+// no frame falls, the frames 2 pixels apart on grey, each under a 20-pixel strip with its number
+// and its first light's position in mm (white on grey, cut at the frame's width). Returns the
+// exposure.
 DisplayExposure write_sweep_pngs(const std::vector<RenderImage>& frames, const std::vector<std::string>& frame_paths,
                                  const std::string& sheet_path, const ColourSettings& colour);
 
