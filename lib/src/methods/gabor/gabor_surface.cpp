@@ -395,9 +395,11 @@ struct RowLeaves {
 
 // For each leaf i of `leaves` that the chord meets: visit(i, c0, chord, lanes) with its first
 // column c0, the chord's columns as bits (bit k: column c0 + k) and its samples' lanes (ρ only
-// when `chirped`).
+// when `chirped`). On a copy of `given`: the columns that visit() stores may alias it, which
+// would reload every field after each leaf.
 template <typename Visit>
-[[gnu::always_inline]] inline void for_each_leaf_in_chord(const RowLeaves& leaves, bool chirped, const Visit& visit) {
+[[gnu::always_inline]] inline void for_each_leaf_in_chord(const RowLeaves& given, bool chirped, const Visit& visit) {
+    const RowLeaves leaves = given;
     const long long first = leaves.first, last = leaves.last;
     std::size_t leaf = 0;
     while (leaf < leaves.leaf_count && (leaves.leaf_columns[leaf] + 1LL) * kLeafKernels <= first) ++leaf;
@@ -439,15 +441,16 @@ template <typename Passes>
 }
 
 // list_passing compiled for each kind of test alone: difference bounds, and (second order) each
-// kernel's own chirped reach (leaves.chirped unused).
+// kernel's own chirped reach (leaves.chirped unused). The tests are taken by value, so that the
+// stores to columns cannot alias them.
 GLINTSCOPE_OUT_OF_LINE_CLONES
-std::size_t list_row_survivors(const RowLeaves& leaves, const DifferenceBounds& bounds, int* columns) {
+std::size_t list_row_survivors(const RowLeaves& leaves, const DifferenceBounds bounds, int* columns) {
     return list_passing(leaves, false, [&](const SampleLanes& lanes) { return differences_within(lanes, bounds); },
                         columns);
 }
 
 GLINTSCOPE_OUT_OF_LINE_CLONES
-std::size_t list_chirped_row_survivors(const RowLeaves& leaves, const ChirpedDifferenceTest& test, int* columns) {
+std::size_t list_chirped_row_survivors(const RowLeaves& leaves, const ChirpedDifferenceTest test, int* columns) {
     return list_passing(leaves, true, [&](const SampleLanes& lanes) { return chirped_within(lanes, test); }, columns);
 }
 
