@@ -478,7 +478,7 @@ void list_row_survivors(const RowLeaves& leaves, const std::uint64_t* leaf_aims,
 class OneAim {
 public:
     using Mask = unsigned char;
-    explicit OneAim(Aim& aim) : aim_(aim) {}
+    explicit OneAim(const Aim& aim) : aim_(aim) {}
     std::size_t size() const { return 1; }
     Mask every() const { return 1; }
     // The aims in `within` for which reaches(aim) holds.
@@ -487,7 +487,7 @@ public:
         return reaches(aim_.reach);
     }
     template <typename Visit>
-    void for_each(Mask, const Visit& visit) const {
+    void for_each(Mask, const Visit& visit) {
         visit(aim_);
     }
     // K = 1: add(aim, columns, count) with the row's kernels that pass the aim's test.
@@ -500,7 +500,7 @@ public:
     }
 
 private:
-    Aim& aim_;
+    Aim aim_;  // held here, not behind a pointer, so the walk reads its reach directly
 };
 
 class SeveralAims {
@@ -857,7 +857,7 @@ struct GaborSurface::Collector {
     const gabor::CoherenceWindow window;
     const bool sampled;  // K = 1: the kernels are the samples
     const bool chirped;  // second order: each node's reach widens with its curvature radius
-    const Aims aims;
+    Aims aims;
     const Point2 centre;
     const double reference_height;
     const double weight_scale;
@@ -868,14 +868,14 @@ struct GaborSurface::Collector {
     CollectScratch<Mask>& scratch;
     GaborQueryStatistics counts;
 
-    // `aims` holds the pairs' reaches and kernels; their row tests are set here.
-    Collector(const GaborSurface& surface, const Footprint& footprint, Aims aims, CollectScratch<Mask>& scratch)
+    // `pairs` holds the pairs' reaches and kernels; their row tests are set here.
+    Collector(const GaborSurface& surface, const Footprint& footprint, Aims pairs, CollectScratch<Mask>& scratch)
         : surface(surface),
           grid(gabor::kernel_grid(surface.surface_->texel_um(), surface.settings_)),
           window(footprint, surface.settings_.footprint_sigmas),
           sampled(grid.kernels_per_texel == 1),
           chirped(grid.order == 2),
-          aims(aims),
+          aims(pairs),
           centre(footprint.centre_um),
           reference_height(surface.surface_->height(centre.x, centre.y)),
           weight_scale(grid.spacing_um * grid.spacing_um),
@@ -1177,8 +1177,7 @@ void GaborSurface::collect(const GaborPointQuery& query, const Vec3* omegas_i, s
     };
     if (count == 1) {
         thread_local CollectScratch<OneAim::Mask> scratch;
-        Aim only = aim(0);
-        walk(Collector<OneAim>(*this, query.footprint, OneAim(only), scratch), statistics);
+        walk(Collector<OneAim>(*this, query.footprint, OneAim(aim(0)), scratch), statistics);
         return;
     }
     thread_local CollectScratch<SeveralAims::Mask> scratch;
