@@ -422,7 +422,8 @@ template <typename Visit>
     const __m128i positions =
         _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(set.positions.data())), _mm_setzero_si128());
     const __m128i base = _mm_set1_epi32(c0);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_add_epi32(_mm_unpacklo_epi16(positions, _mm_setzero_si128()), base));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out),
+                     _mm_add_epi32(_mm_unpacklo_epi16(positions, _mm_setzero_si128()), base));
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 4),
                      _mm_add_epi32(_mm_unpackhi_epi16(positions, _mm_setzero_si128()), base));
     return set.count;
@@ -460,7 +461,7 @@ std::size_t list_chirped_row_survivors(const RowLeaves& leaves, const ChirpedDif
 GLINTSCOPE_OUT_OF_LINE_CLONES
 void list_row_survivors(const RowLeaves& leaves, const std::uint64_t* leaf_aims, const Aim* aims, int* columns,
                         std::size_t stride, std::size_t* counts) {
-    for_each_leaf_in_chord(leaves, leaves.chirped, [&](std::size_t leaf, int c0, unsigned chord, const SampleLanes& lanes) {
+    const auto test_leaf = [&](std::size_t leaf, int c0, unsigned chord, const SampleLanes& lanes) {
         for (std::uint64_t left = leaf_aims[leaf]; left != 0; left &= left - 1) {
             const int a = std::countr_zero(left);
             const RowTest& test = aims[a].row_test;
@@ -468,7 +469,8 @@ void list_row_survivors(const RowLeaves& leaves, const std::uint64_t* leaf_aims,
                 chord & (test.chirped ? chirped_within(lanes, *test.chirped) : differences_within(lanes, test.bounds));
             counts[a] += list_bits(bits, c0, columns + a * stride + counts[a]);
         }
-    });
+    };
+    for_each_leaf_in_chord(leaves, leaves.chirped, test_leaf);
 }
 
 // The directions of one walk, the Collector's policy. OneAim: a single direction (every render
@@ -835,6 +837,7 @@ struct LeafRange {
     int width() const { return x1 - x0 + 1; }
 };
 
+// The pruning tests of one direction pair at the pruning wavelength.
 DirectionalReach directional_reach(const GaborPointQuery& query, double lambda_um, const gabor::KernelGrid& grid) {
     const Vec3 psi = query.omega_i + query.omega_o;
     return {psi.x / lambda_um, psi.y / lambda_um, xi3(query.model, query.omega_i, query.omega_o) / lambda_um,
@@ -1105,8 +1108,8 @@ struct GaborSurface::Collector {
                 if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0], stride);
             return;
         }
-        aims.for_each(aims.every(),
-                      [&](const Aim& aim) { aim.kernels->reserve_more(leaf_columns.size() * kLeafKernels * kLeafKernels); });
+        const std::size_t most = leaf_columns.size() * kLeafKernels * kLeafKernels;
+        aims.for_each(aims.every(), [&](const Aim& aim) { aim.kernels->reserve_more(most); });
         for (std::size_t k = 0; k < leaf_columns.size(); ++k)
             add_coded_leaf(cx, cy, leaf_row, leaf_columns[k], scratch.leaf_aims[k], first, last);
     }
@@ -1149,8 +1152,8 @@ struct GaborSurface::Collector {
 namespace {
 
 // Walks a collector over every tile copy, adding its counts to `statistics` (if any).
-template <typename Collector>
-void walk(Collector&& collector, GaborQueryStatistics* statistics) {
+template <typename AnyCollector>
+void walk(AnyCollector&& collector, GaborQueryStatistics* statistics) {
     collector.add_tile_copies();
     if (!statistics) return;
     statistics->nodes_visited += collector.counts.nodes_visited;
