@@ -291,45 +291,6 @@ struct RowTest {
     std::optional<ChirpedDifferenceTest> chirped;
 };
 
-// K = 1, one y-up kernel row, for several aims at once: for each leaf leaf_columns[i] (i <
-// leaf_count, ascending) inside the window's chord [first, last], its samples' lanes once, then
-// for each aim a of leaf_aims[i] the kernels that pass tests[a], their columns appended at
-// columns + a·stride and counted in counts[a]. 8 slots are written per leaf and aim and the
-// count advanced by its survivors, so that no branch depends on which kernels survive.
-GLINTSCOPE_OUT_OF_LINE_CLONES
-void list_row_survivors(const float* below, const float* row, const float* above, int cols, const int* leaf_columns,
-                        const std::uint64_t* leaf_aims, std::size_t leaf_count, long long first, long long last,
-                        bool chirped, float curvature_slack, const RowTest* tests, int* columns, std::size_t stride,
-                        std::size_t* counts) {
-    std::size_t leaf = 0;
-    while (leaf < leaf_count && (leaf_columns[leaf] + 1LL) * kLeafKernels <= first) ++leaf;
-    for (; leaf < leaf_count && leaf_columns[leaf] * static_cast<long long>(kLeafKernels) <= last; ++leaf) {
-        const int c0 = leaf_columns[leaf] * kLeafKernels;
-        const long long skip_left = std::clamp<long long>(first - c0, 0, kLeafKernels);
-        const long long skip_right = std::clamp<long long>(c0 + kLeafKernels - 1 - last, 0, kLeafKernels);
-        const unsigned chord = (0xFFu << skip_left) & (0xFFu >> skip_right);
-        const SampleLanes lanes =
-            sample_lanes(below, row, above, c0, std::min(kLeafKernels, cols - c0), cols, chirped, curvature_slack);
-        const __m128i base = _mm_set1_epi32(c0);
-        for (std::uint64_t aims = leaf_aims[leaf]; aims != 0; aims &= aims - 1) {
-            const int a = std::countr_zero(aims);
-            const RowTest& test = tests[a];
-            const unsigned bits =
-                chord & (test.chirped ? chirped_within(lanes, *test.chirped) : differences_within(lanes, test.bounds));
-            // columns[count + k] = c0 + position k, for all 8 slots at once.
-            const SetBits& set = kSetBits[bits];
-            const __m128i positions = _mm_unpacklo_epi8(
-                _mm_loadl_epi64(reinterpret_cast<const __m128i*>(set.positions.data())), _mm_setzero_si128());
-            int* out = columns + a * stride + counts[a];
-            _mm_storeu_si128(reinterpret_cast<__m128i*>(out),
-                             _mm_add_epi32(_mm_unpacklo_epi16(positions, _mm_setzero_si128()), base));
-            _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 4),
-                             _mm_add_epi32(_mm_unpackhi_epi16(positions, _mm_setzero_si128()), base));
-            counts[a] += set.count;
-        }
-    }
-}
-
 // The directional test at the pruning wavelength, for node boxes and single kernels.
 struct DirectionalReach {
     double vx = 0.0;
@@ -407,6 +368,174 @@ constexpr double kReachMargin = 1.0 + 1e-9;
 
 // A reach beyond every kernel's (difference bounds that keep them all).
 constexpr double kKeepEvery = std::numeric_limits<double>::infinity();
+
+// One direction pair's pruning tests and the kernels it collects.
+struct Aim {
+    DirectionalReach reach;
+    gabor::KernelArrays* kernels;
+    RowTest row_test;  // K = 1
+};
+
+// At most this many aims share one walk: their sets are bits of a 64-bit mask.
+constexpr std::size_t kMaxAims = 64;
+
+// K = 1: one y-up kernel row's samples (rows j − 1, j, j + 1, wrapped) and its surviving leaves
+// leaf_columns[0 … leaf_count) (ascending, for any aim) around the window's chord [first, last].
+struct RowLeaves {
+    const float* below;
+    const float* row;
+    const float* above;
+    int cols;
+    const int* leaf_columns;
+    std::size_t leaf_count;
+    long long first, last;
+    bool chirped;           // second order (several aims' lanes: ρ too)
+    float curvature_slack;  // ChirpedDifferenceTest
+};
+
+// For each leaf i of `leaves` that the chord meets: visit(i, c0, chord, lanes) with its first
+// column c0, the chord's columns as bits (bit k: column c0 + k) and its samples' lanes (ρ only
+// when `chirped`). On a copy of `given`: the columns that visit() stores may alias it, which
+// would reload every field after each leaf.
+template <typename Visit>
+[[gnu::always_inline]] inline void for_each_leaf_in_chord(const RowLeaves& given, bool chirped, const Visit& visit) {
+    const RowLeaves leaves = given;
+    const long long first = leaves.first, last = leaves.last;
+    std::size_t leaf = 0;
+    while (leaf < leaves.leaf_count && (leaves.leaf_columns[leaf] + 1LL) * kLeafKernels <= first) ++leaf;
+    for (; leaf < leaves.leaf_count && leaves.leaf_columns[leaf] * static_cast<long long>(kLeafKernels) <= last;
+         ++leaf) {
+        const int c0 = leaves.leaf_columns[leaf] * kLeafKernels;
+        const long long skip_left = std::clamp<long long>(first - c0, 0, kLeafKernels);
+        const long long skip_right = std::clamp<long long>(c0 + kLeafKernels - 1 - last, 0, kLeafKernels);
+        const unsigned chord = (0xFFu << skip_left) & (0xFFu >> skip_right);
+        visit(leaf, c0, chord,
+              sample_lanes(leaves.below, leaves.row, leaves.above, c0, std::min(kLeafKernels, leaves.cols - c0),
+                           leaves.cols, chirped, leaves.curvature_slack));
+    }
+}
+
+// out[k] = c0 + the position of the k-th set bit of `bits`, for all 8 slots at once (past the
+// set bits, garbage); returns how many bits are set. No branch depends on which are set.
+[[gnu::always_inline]] inline int list_bits(unsigned bits, int c0, int* out) {
+    const SetBits& set = kSetBits[bits];
+    const __m128i positions =
+        _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(set.positions.data())), _mm_setzero_si128());
+    const __m128i base = _mm_set1_epi32(c0);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out),
+                     _mm_add_epi32(_mm_unpacklo_epi16(positions, _mm_setzero_si128()), base));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 4),
+                     _mm_add_epi32(_mm_unpackhi_epi16(positions, _mm_setzero_si128()), base));
+    return set.count;
+}
+
+// K = 1, one aim: the columns of the row's kernels that pass `passes` (lanes → bits), listed in
+// `columns` (8 slots written per leaf), and their count.
+template <typename Passes>
+[[gnu::always_inline]] inline std::size_t list_passing(const RowLeaves& leaves, bool chirped, const Passes& passes,
+                                                       int* columns) {
+    std::size_t count = 0;
+    for_each_leaf_in_chord(leaves, chirped, [&](std::size_t, int c0, unsigned chord, const SampleLanes& lanes) {
+        count += list_bits(chord & passes(lanes), c0, columns + count);
+    });
+    return count;
+}
+
+// list_passing compiled for each kind of test alone: difference bounds, and (second order) each
+// kernel's own chirped reach (leaves.chirped unused). The tests are taken by value, so that the
+// stores to columns cannot alias them.
+GLINTSCOPE_OUT_OF_LINE_CLONES
+std::size_t list_row_survivors(const RowLeaves& leaves, const DifferenceBounds bounds, int* columns) {
+    return list_passing(leaves, false, [&](const SampleLanes& lanes) { return differences_within(lanes, bounds); },
+                        columns);
+}
+
+GLINTSCOPE_OUT_OF_LINE_CLONES
+std::size_t list_chirped_row_survivors(const RowLeaves& leaves, const ChirpedDifferenceTest test, int* columns) {
+    return list_passing(leaves, true, [&](const SampleLanes& lanes) { return chirped_within(lanes, test); }, columns);
+}
+
+// K = 1, several aims at once: each leaf's lanes once, then for each aim a of leaf_aims[leaf]
+// the kernels that pass aims[a].row_test, their columns appended at columns + a·stride and
+// counted in counts[a] (8 slots written per leaf and aim).
+GLINTSCOPE_OUT_OF_LINE_CLONES
+void list_row_survivors(const RowLeaves& leaves, const std::uint64_t* leaf_aims, const Aim* aims, int* columns,
+                        std::size_t stride, std::size_t* counts) {
+    const auto test_leaf = [&](std::size_t leaf, int c0, unsigned chord, const SampleLanes& lanes) {
+        for (std::uint64_t left = leaf_aims[leaf]; left != 0; left &= left - 1) {
+            const int a = std::countr_zero(left);
+            const RowTest& test = aims[a].row_test;
+            const unsigned bits =
+                chord & (test.chirped ? chirped_within(lanes, *test.chirped) : differences_within(lanes, test.bounds));
+            counts[a] += list_bits(bits, c0, columns + a * stride + counts[a]);
+        }
+    };
+    for_each_leaf_in_chord(leaves, leaves.chirped, test_leaf);
+}
+
+// The directions of one walk, the Collector's policy. OneAim: a single direction (every render
+// and eval), tested directly: a node or leaf is kept for it or not (Mask 1 or 0), with no loop
+// over aims. SeveralAims: up to kMaxAims directions (light sweeps): each node and leaf carries
+// the set of aims it may reach as bits of a mask, and each test runs over that set.
+class OneAim {
+public:
+    using Mask = unsigned char;
+    explicit OneAim(const Aim& aim) : aim_(aim) {}
+    std::size_t size() const { return 1; }
+    Mask every() const { return 1; }
+    // The aims in `within` for which reaches(aim) holds.
+    template <typename Reaches>
+    Mask reaching(Mask, const Reaches& reaches) const {
+        return reaches(aim_.reach);
+    }
+    template <typename Visit>
+    void for_each(Mask, const Visit& visit) {
+        visit(aim_);
+    }
+    // K = 1: add(aim, columns, count) with the row's kernels that pass the aim's test.
+    template <typename Add>
+    void add_row_survivors(const RowLeaves& leaves, const Mask*, int* columns, std::size_t, const Add& add) const {
+        const RowTest& test = aim_.row_test;
+        add(aim_, columns,
+            test.chirped ? list_chirped_row_survivors(leaves, *test.chirped, columns)
+                         : list_row_survivors(leaves, test.bounds, columns));
+    }
+
+private:
+    Aim aim_;  // held here, not behind a pointer, so the walk reads its reach directly
+};
+
+class SeveralAims {
+public:
+    using Mask = std::uint64_t;  // bit a: aims[a]
+    explicit SeveralAims(std::vector<Aim>& aims) : aims_(aims) {}
+    std::size_t size() const { return aims_.size(); }
+    Mask every() const { return aims_.size() == kMaxAims ? ~Mask{0} : (Mask{1} << aims_.size()) - 1; }
+    template <typename Reaches>
+    Mask reaching(Mask within, const Reaches& reaches) const {
+        Mask reached = 0;
+        for (; within != 0; within &= within - 1)
+            if (reaches(aims_[std::countr_zero(within)].reach)) reached |= within & -within;
+        return reached;
+    }
+    template <typename Visit>
+    void for_each(Mask within, const Visit& visit) const {
+        for (; within != 0; within &= within - 1) visit(aims_[std::countr_zero(within)]);
+    }
+    // K = 1: add(aim, columns, count) for each aim with the row's kernels that pass its test
+    // (stride: the columns each aim may list).
+    template <typename Add>
+    void add_row_survivors(const RowLeaves& leaves, const Mask* leaf_aims, int* columns, std::size_t stride,
+                           const Add& add) const {
+        std::array<std::size_t, kMaxAims> counts;
+        std::fill_n(counts.begin(), aims_.size(), std::size_t{0});
+        list_row_survivors(leaves, leaf_aims, aims_.data(), columns, stride, counts.data());
+        for (std::size_t a = 0; a < aims_.size(); ++a) add(aims_[a], columns + a * stride, counts[a]);
+    }
+
+private:
+    std::vector<Aim>& aims_;
+};
 
 // w(p) = w(p_x, 0)·w(0, p_y) for both footprints: its factors at the kernel columns and rows
 // around one footprint centre, tabulated once per query instead of once per kernel.
@@ -681,22 +810,22 @@ std::size_t GaborSurface::memory_bytes() const {
 
 namespace {
 
-// Scratch space of the collector, kept per thread across queries so that a query allocates
-// nothing once warm.
-// A hierarchy node of one level and the directions (bits of aims) whose reach it may hold.
+// A hierarchy node of one level and the aims (a Mask of the walk's policy) whose reach it may hold.
+template <typename Mask>
 struct NodeAims {
     int column, row;
-    std::uint64_t aims;
+    Mask aims;
 };
 
+// Scratch space of the collector, kept per thread across queries so that a query allocates
+// nothing once warm.
+template <typename Mask>
 struct CollectScratch {
-    std::vector<NodeAims> nodes;  // one level's nodes
-    std::vector<NodeAims> children;
-    std::vector<std::uint64_t> leaf_map;     // over the footprint's leaves: the aims it survives for
+    std::vector<NodeAims<Mask>> nodes;  // one level's nodes
+    std::vector<NodeAims<Mask>> children;
+    std::vector<Mask> leaf_map;              // over the footprint's leaves: the aims it survives for
     std::vector<int> leaf_columns;           // the surviving leaves of one leaf row (for any aim)
-    std::vector<std::uint64_t> leaf_aims;    // parallel to leaf_columns
-    std::vector<RowTest> row_tests;          // K = 1: each aim's test of a row's samples
-    std::vector<std::size_t> survivor_counts;  // K = 1: per aim, the survivors listed on one row
+    std::vector<Mask> leaf_aims;             // parallel to leaf_columns
     std::vector<SurfacePoint> block;
     std::vector<int> survivor_columns;       // K = 1: kernels of one row that survive pruning
     SeparableWeights weights;
@@ -708,30 +837,30 @@ struct LeafRange {
     int width() const { return x1 - x0 + 1; }
 };
 
-// One direction pair's pruning tests and the kernels it collects.
-struct Aim {
-    DirectionalReach reach;
-    gabor::KernelArrays* kernels;
-};
-
-// At most this many aims share one walk: their sets are bits of a 64-bit mask.
-constexpr std::size_t kMaxAims = 64;
+// The pruning tests of one direction pair at the pruning wavelength.
+DirectionalReach directional_reach(const GaborPointQuery& query, double lambda_um, const gabor::KernelGrid& grid) {
+    const Vec3 psi = query.omega_i + query.omega_o;
+    return {psi.x / lambda_um, psi.y / lambda_um, xi3(query.model, query.omega_i, query.omega_o) / lambda_um,
+            grid.reach * kReachMargin, grid.order == 2 ? grid.chirp_scale : 0.0};
+}
 
 }  // namespace
 
-// One footprint's walk (Yan 2018 §5) for up to kMaxAims direction pairs at once: for each tile
-// copy the footprint overlaps, find the leaves that survive pruning for any of them, then append
-// to each pair's kernels those of its leaves that survive its tests. What depends only on the
-// footprint (the window, its chords and weights, the tiles and the walk's nodes) is done once;
-// each pair's kernels are exactly, and in the same order, those a walk for it alone appends.
+// One footprint's walk (Yan 2018 §5) for the direction pairs of Aims (OneAim or SeveralAims):
+// for each tile copy the footprint overlaps, find the leaves that survive pruning for any of
+// them, then append to each pair's kernels those of its leaves that survive its tests. What
+// depends only on the footprint (the window, its chords and weights, the tiles and the walk's
+// nodes) is done once; each pair's kernels are exactly, and in the same order, those a walk for
+// it alone appends.
+template <typename Aims>
 struct GaborSurface::Collector {
+    using Mask = typename Aims::Mask;
     const GaborSurface& surface;
     const gabor::KernelGrid grid;
     const gabor::CoherenceWindow window;
     const bool sampled;  // K = 1: the kernels are the samples
     const bool chirped;  // second order: each node's reach widens with its curvature radius
-    std::vector<Aim>& aims;
-    const std::uint64_t every_aim;
+    Aims aims;
     const Point2 centre;
     const double reference_height;
     const double weight_scale;
@@ -739,18 +868,17 @@ struct GaborSurface::Collector {
     // K = 1, second order: the rounding slack of ρ, 2^-18 of the largest step between
     // neighbouring samples (ChirpedDifferenceTest).
     const float curvature_slack;
-    CollectScratch& scratch;
+    CollectScratch<Mask>& scratch;
     GaborQueryStatistics counts;
 
-    // `aims` holds the pairs' reaches and kernels; their tests are set here.
-    Collector(const GaborSurface& surface, const Footprint& footprint, std::vector<Aim>& aims, CollectScratch& scratch)
+    // `pairs` holds the pairs' reaches and kernels; their row tests are set here.
+    Collector(const GaborSurface& surface, const Footprint& footprint, Aims pairs, CollectScratch<Mask>& scratch)
         : surface(surface),
           grid(gabor::kernel_grid(surface.surface_->texel_um(), surface.settings_)),
           window(footprint, surface.settings_.footprint_sigmas),
           sampled(grid.kernels_per_texel == 1),
           chirped(grid.order == 2),
-          aims(aims),
-          every_aim(aims.size() == kMaxAims ? ~std::uint64_t{0} : (std::uint64_t{1} << aims.size()) - 1),
+          aims(pairs),
           centre(footprint.centre_um),
           reference_height(surface.surface_->height(centre.x, centre.y)),
           weight_scale(grid.spacing_um * grid.spacing_um),
@@ -759,20 +887,11 @@ struct GaborSurface::Collector {
           scratch(scratch) {
         window.check_kernel_count(grid);
         if (!sampled) return;
-        scratch.row_tests.clear();
-        scratch.survivor_counts.resize(aims.size());
         // Of every kernel at first order (all kept when chirped); second order: each kernel's own reach.
-        for (const Aim& aim : aims)
-            scratch.row_tests.push_back(
-                {aim.reach.difference_bounds(grid.spacing_um, chirped ? kKeepEvery : aim.reach.reach),
-                 chirped ? aim.reach.chirped_difference_test(grid.spacing_um) : std::nullopt});
-    }
-
-    static DirectionalReach directional_reach(const GaborPointQuery& query, double lambda_um,
-                                              const gabor::KernelGrid& grid) {
-        const Vec3 psi = query.omega_i + query.omega_o;
-        return {psi.x / lambda_um, psi.y / lambda_um, xi3(query.model, query.omega_i, query.omega_o) / lambda_um,
-                grid.reach * kReachMargin, grid.order == 2 ? grid.chirp_scale : 0.0};
+        aims.for_each(aims.every(), [&](Aim& aim) {
+            aim.row_test = {aim.reach.difference_bounds(grid.spacing_um, chirped ? kKeepEvery : aim.reach.reach),
+                            chirped ? aim.reach.chirped_difference_test(grid.spacing_um) : std::nullopt};
+        });
     }
 
     // The directional reach of a node for one aim: widened by its curvature radius at second order.
@@ -839,26 +958,24 @@ struct GaborSurface::Collector {
         scratch.nodes.clear();
         for (int iy = range.y0 >> start; iy <= range.y1 >> start; ++iy)
             for (int ix = range.x0 >> start; ix <= range.x1 >> start; ++ix)
-                if (node_overlaps(cx, cy, start, ix, iy)) scratch.nodes.push_back({ix, iy, every_aim});
+                if (node_overlaps(cx, cy, start, ix, iy)) scratch.nodes.push_back({ix, iy, aims.every()});
         for (int level_index = start; level_index >= 0; --level_index) {
             scratch.children.clear();
-            for (const NodeAims& node : scratch.nodes) visit_node(cx, cy, range, level_index, node);
+            for (const NodeAims<Mask>& node : scratch.nodes) visit_node(cx, cy, range, level_index, node);
             std::swap(scratch.nodes, scratch.children);
         }
     }
 
     // A node that reaches some of its aims: a leaf is marked with them, a parent's overlapping
     // children are queued with them.
-    void visit_node(double cx, double cy, const LeafRange& range, int level_index, const NodeAims& node) {
+    void visit_node(double cx, double cy, const LeafRange& range, int level_index, const NodeAims<Mask>& node) {
         const int ix = node.column, iy = node.row;
         const gabor::Level& level = surface.hierarchy_->levels[level_index];
         ++counts.nodes_visited;
         const std::size_t index = static_cast<std::size_t>(iy) * level.nx + ix;
-        std::uint64_t reached = 0;
-        for (std::uint64_t left = node.aims; left != 0; left &= left - 1) {
-            const DirectionalReach& reach = aims[std::countr_zero(left)].reach;
-            if (reach.box_reaches(level.boxes[index], node_reach(reach, level, index))) reached |= left & -left;
-        }
+        const Mask reached = aims.reaching(node.aims, [&](const DirectionalReach& reach) {
+            return reach.box_reaches(level.boxes[index], node_reach(reach, level, index));
+        });
         if (reached == 0) return;
         if (level_index == 0) {
             scratch.leaf_map[static_cast<std::size_t>(iy - range.y0) * range.width() + (ix - range.x0)] = reached;
@@ -893,13 +1010,16 @@ struct GaborSurface::Collector {
         const float* row = surface.surface_->sample_row(j);
         const float* below = surface.surface_->sample_row(j == 0 ? rows - 1 : j - 1);
         const float* above = surface.surface_->sample_row(j + 1 == rows ? 0 : j + 1);
-        int* columns = scratch.survivor_columns.data();
-        const int cols = surface.hierarchy_->kernels_x;
-        std::size_t* survivors = scratch.survivor_counts.data();
-        std::fill(survivors, survivors + aims.size(), std::size_t{0});
-        list_row_survivors(below, row, above, cols, scratch.leaf_columns.data(), scratch.leaf_aims.data(),
-                           scratch.leaf_columns.size(), first, last, chirped, curvature_slack,
-                           scratch.row_tests.data(), columns, stride, survivors);
+        const RowLeaves leaves{below,
+                               row,
+                               above,
+                               surface.hierarchy_->kernels_x,
+                               scratch.leaf_columns.data(),
+                               scratch.leaf_columns.size(),
+                               first,
+                               last,
+                               chirped,
+                               curvature_slack};
         const SampledRow sampled_row{below,
                                      row,
                                      above,
@@ -912,16 +1032,17 @@ struct GaborSurface::Collector {
                                      scratch.weights.columns(),
                                      scratch.weights.first_column(),
                                      chirped};
-        for (std::size_t a = 0; a < aims.size(); ++a) {
-            if (survivors[a] == 0) continue;
-            counts.kernels_evaluated += survivors[a];
-            append_sampled_kernels(sampled_row, columns + a * stride, survivors[a], *aims[a].kernels);
-        }
+        aims.add_row_survivors(leaves, scratch.leaf_aims.data(), scratch.survivor_columns.data(), stride,
+                               [&](const Aim& aim, const int* columns, std::size_t count) {
+                                   if (count == 0) return;
+                                   counts.kernels_evaluated += count;
+                                   append_sampled_kernels(sampled_row, columns, count, *aim.kernels);
+                               });
     }
 
     // K > 1: per surviving leaf, the kernels inside the window whose codes may reach; the leaf's
     // block of the kernel grid is interpolated once if any are left.
-    void add_coded_leaf(double cx, double cy, int leaf_row, int leaf_column, std::uint64_t leaf_aims,
+    void add_coded_leaf(double cx, double cy, int leaf_row, int leaf_column, Mask leaf_aims,
                         const long long* first, const long long* last) {
         const int i0 = leaf_column * kLeafKernels;
         const int j0 = leaf_row * kLeafKernels;
@@ -940,11 +1061,10 @@ struct GaborSurface::Collector {
         const gabor::LeafCodes& codes = surface.hierarchy_->leaf_codes[index];
         const gabor::Level& leaves = surface.hierarchy_->levels.front();
         bool evaluated = false;  // the leaf's block, interpolated for the first aim that needs it
-        for (; leaf_aims != 0; leaf_aims &= leaf_aims - 1) {
-            Aim& aim = aims[std::countr_zero(leaf_aims)];
+        aims.for_each(leaf_aims, [&](const Aim& aim) {
             std::uint64_t bits =
                 inside & aim.reach.leaf_reaches(leaves.boxes[index], codes.x, codes.y, node_reach(aim.reach, leaves, index));
-            if (bits == 0) continue;
+            if (bits == 0) return;
             if (!evaluated) {
                 scratch.block.resize(static_cast<std::size_t>(kLeafKernels) * kLeafKernels);
                 gabor::evaluate_kernels(*surface.surface_, grid, i0, j0, nx, ny, scratch.block.data());
@@ -962,7 +1082,7 @@ struct GaborSurface::Collector {
                 if (chirped)
                     kernels.set_curvature(kernels.size() - 1, gabor::kernel_curvature(*surface.surface_, grid, i, j));
             }
-        }
+        });
     }
 
     // One leaf row's surviving leaves (leaf_columns, ascending): the window's chord on each of its
@@ -988,7 +1108,8 @@ struct GaborSurface::Collector {
                 if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0], stride);
             return;
         }
-        for (Aim& aim : aims) aim.kernels->reserve_more(leaf_columns.size() * kLeafKernels * kLeafKernels);
+        const std::size_t most = leaf_columns.size() * kLeafKernels * kLeafKernels;
+        aims.for_each(aims.every(), [&](const Aim& aim) { aim.kernels->reserve_more(most); });
         for (std::size_t k = 0; k < leaf_columns.size(); ++k)
             add_coded_leaf(cx, cy, leaf_row, leaf_columns[k], scratch.leaf_aims[k], first, last);
     }
@@ -1005,7 +1126,7 @@ struct GaborSurface::Collector {
             if (sampled) prefetch_samples(range, leaf_row + kPrefetchLeafRows);
             scratch.leaf_columns.clear();
             scratch.leaf_aims.clear();
-            const std::uint64_t* marks =
+            const Mask* marks =
                 &scratch.leaf_map[static_cast<std::size_t>(leaf_row - range.y0) * range.width()];
             for (int k = 0; k < range.width(); ++k)
                 if (marks[k]) {
@@ -1028,31 +1149,46 @@ struct GaborSurface::Collector {
     }
 };
 
+namespace {
+
+// Walks a collector over every tile copy, adding its counts to `statistics` (if any).
+template <typename AnyCollector>
+void walk(AnyCollector&& collector, GaborQueryStatistics* statistics) {
+    collector.add_tile_copies();
+    if (!statistics) return;
+    statistics->nodes_visited += collector.counts.nodes_visited;
+    statistics->kernels_evaluated += collector.counts.kernels_evaluated;
+}
+
+}  // namespace
+
 void GaborSurface::collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
                            GaborQueryStatistics* statistics) const {
     gabor::KernelArrays* const target = &kernels;
     collect(query, &query.omega_i, 1, prune_lambda_um, &target, statistics);
 }
 
+// One direction (count 1: every render and eval) walks with the Collector compiled for it alone.
 void GaborSurface::collect(const GaborPointQuery& query, const Vec3* omegas_i, std::size_t count,
                            double prune_lambda_um, gabor::KernelArrays* const* kernels,
                            GaborQueryStatistics* statistics) const {
-    thread_local CollectScratch scratch;
-    thread_local std::vector<Aim> aims;
     const gabor::KernelGrid grid = gabor::kernel_grid(surface_->texel_um(), settings_);
+    GaborPointQuery one = query;
+    const auto aim = [&](std::size_t k) {
+        one.omega_i = omegas_i[k];
+        return Aim{directional_reach(one, prune_lambda_um, grid), kernels[k], {}};
+    };
+    if (count == 1) {
+        thread_local CollectScratch<OneAim::Mask> scratch;
+        walk(Collector<OneAim>(*this, query.footprint, OneAim(aim(0)), scratch), statistics);
+        return;
+    }
+    thread_local CollectScratch<SeveralAims::Mask> scratch;
+    thread_local std::vector<Aim> aims;
     for (std::size_t first = 0; first < count; first += kMaxAims) {
         aims.clear();
-        for (std::size_t k = first; k < std::min(count, first + kMaxAims); ++k) {
-            GaborPointQuery one = query;
-            one.omega_i = omegas_i[k];
-            aims.push_back({Collector::directional_reach(one, prune_lambda_um, grid), kernels[k]});
-        }
-        Collector collector(*this, query.footprint, aims, scratch);
-        collector.add_tile_copies();
-        if (statistics) {
-            statistics->nodes_visited += collector.counts.nodes_visited;
-            statistics->kernels_evaluated += collector.counts.kernels_evaluated;
-        }
+        for (std::size_t k = first; k < std::min(count, first + kMaxAims); ++k) aims.push_back(aim(k));
+        walk(Collector<SeveralAims>(*this, query.footprint, SeveralAims(aims), scratch), statistics);
     }
 }
 

@@ -100,7 +100,8 @@ public:
     std::size_t memory_bytes() const;  // of the hierarchy (the interpolant is shared)
 
 private:
-    struct Collector;  // one query's walk (gabor_surface.cpp)
+    template <typename Aims>
+    struct Collector;  // one footprint's walk for one or several directions (gabor_surface.cpp)
 
     // Appends the kernels that survive pruning at `prune_lambda_um`, heights relative to H(x_c).
     void collect(const GaborPointQuery& query, double prune_lambda_um, gabor::KernelArrays& kernels,
