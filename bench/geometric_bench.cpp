@@ -2,6 +2,7 @@
 // Fig. 8 (1024² builtin at 1 µm; 8192² from heightfields/isotropic.recipe for the whole-field NDF).
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <memory>
 #include <random>
 
@@ -104,6 +105,38 @@ void BM_PndfPointQuerySigma20(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_PndfPointQuerySigma20)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond);
+
+// A geometric render's shading point at the Patch scene's image centre, 1280 × 720 × 4 spp: its
+// cell on the patch is 37 × 53 µm (the longer side along the view's azimuth, +y). Argument 0: the
+// cell itself as the rectangle it queries now (render.cpp), turned by a random angle; 1: the
+// elliptical Gaussian of the same covariance it queried before 2026-11-26 (σ_c = √2 · 53/√12,
+// σ_minor = √2 · 37/√12), cut at 6σ. Adaptive tree, random centres and |h| ≤ 0.3 as above.
+void BM_PndfPointQueryPatchCell(benchmark::State& state) {
+    const glintscope::NormalBoundsTree tree = glintscope::make_normal_bounds_tree(builtin_surface(), tree_settings(true), 256);
+    std::mt19937_64 rng(24);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<std::pair<glintscope::Footprint, glintscope::DiskPoint>> queries(1024);
+    for (auto& [footprint, h] : queries) {
+        footprint.centre_um = {1024.0 * u(rng), 1024.0 * u(rng)};
+        footprint.axis_radians = glintscope::pi * u(rng);
+        if (state.range(0) == 0) {
+            footprint.shape = glintscope::FootprintShape::box;
+            footprint.size_um = 53.0;
+            footprint.size_y_um = 37.0;
+        } else {
+            footprint.sigma_um = std::sqrt(2.0 / 12.0) * 53.0;
+            footprint.sigma_minor_um = std::sqrt(2.0 / 12.0) * 37.0;
+        }
+        const double r = 0.3 * std::sqrt(u(rng)), phi = 2.0 * glintscope::pi * u(rng);
+        h = {r * std::cos(phi), r * std::sin(phi)};
+    }
+    std::size_t k = 0;
+    for (auto _ : state) {
+        const auto& [footprint, h] = queries[k++ % queries.size()];
+        benchmark::DoNotOptimize(glintscope::point_normal_density(tree, footprint, h));
+    }
+}
+BENCHMARK(BM_PndfPointQueryPatchCell)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // The point query's sampler for one σ_c = 20 µm footprint (argument as above): range(1) = 0 times
 // the making of its cumulative weights over the support; 1 times a draw of h from them.
