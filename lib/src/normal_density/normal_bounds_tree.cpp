@@ -452,7 +452,9 @@ struct BoxTriangles {
 
     // Sub-cell (a, b)'s lower triangle (its corners (0, 0), (1, 0), (1, 1)) or upper one ((0, 0),
     // (1, 1), (0, 1)), in the box's frame, clipped by the box.
-    SmallPolygon clipped(int a, int b, bool upper) const { return clip_to_rectangle(corners(a, b, upper), -box.half_width, box.half_width, -box.half_height, box.half_height); }
+    SmallPolygon clipped(int a, int b, bool upper) const {
+        return clip_to_rectangle(corners(a, b, upper), -box.half_width, box.half_width, -box.half_height, box.half_height);
+    }
 
     SmallPolygon corners(int a, int b, bool upper) const {
         const double x = cells.x + a * cells.h, y = cells.y + b * cells.k;

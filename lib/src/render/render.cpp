@@ -208,8 +208,8 @@ void validate(const Scene& scene, const RenderSettings& settings) {
         throw Error("the patch tiles the heightfield, which is not periodic: its seams would show (load it as periodic, "
                     "or prepare a periodic crop)");
     if (renders_pixel_footprint(scene.method) && scene.query.footprint.shape != FootprintShape::gaussian)
-        throw Error("a " + scene.method + " render sees each pixel's footprint on the patch (a Gaussian), not a box or "
-                    "the whole field");
+        throw Error("a " + scene.method + " render sees each pixel's cell on the patch, not the query's box or the "
+                    "whole field");
     LobeQuery query = scene.query;
     query.quantity = Quantity::brdf;
     query.supersample = 1;

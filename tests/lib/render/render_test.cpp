@@ -273,7 +273,7 @@ TEST(Render, BadScenesAreRefusedInOneLine) {
     s = good;
     s.method = "geometric";
     set_box(s.query.footprint, "70um");
-    expect_refused(s, settings, "not a box");
+    expect_refused(s, settings, "not the query's box");
     s = good;
     s.query.wavelengths_um = {-0.5};
     EXPECT_THROW(validate(s, settings), Error);
@@ -352,7 +352,7 @@ Vec3 unproject(const PinholeCamera& camera, Point2 p) {
     return camera.position_um + (-camera.position_um.z / d.z) * d;
 }
 
-// A geometric render sees each pixel's footprint on the patch (Yan 2014/2016), as a Gaussian: its
+// A geometric render sees each pixel's footprint on the patch (Yan 2014/2016), the cell's: its
 // box filter's covariance through the camera, whose determinant is (area/12)² for the pixel's
 // quadrilateral on the patch, foreshortened by 1/cos 45° along the view at the Patch scene's
 // centre, and half as wide in an image of twice the size.
