@@ -2,6 +2,7 @@
 // Fig. 8 (1024² builtin at 1 µm; 8192² from heightfields/isotropic.recipe for the whole-field NDF).
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <memory>
 #include <random>
 
@@ -85,16 +86,18 @@ void BM_NormalBoundsTreeBuild1024(benchmark::State& state) {
 }
 BENCHMARK(BM_NormalBoundsTreeBuild1024)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_PndfPointQuerySigma20(benchmark::State& state) {
-    const glintscope::NormalBoundsTree tree =
-        glintscope::make_normal_bounds_tree(builtin_surface(), tree_settings(state.range(0)), 256);
-    std::mt19937_64 rng(22);
+// Times point queries of 1024 footprints at random centres over the field, each shaped by
+// shape(footprint, uniform), at random normals of the distribution's core (|h| ≤ 0.3).
+template <typename Shape>
+void time_point_queries(benchmark::State& state, const glintscope::NormalBoundsTree& tree, unsigned seed, const Shape& shape) {
+    std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 1.0);
+    const auto uniform = [&] { return u(rng); };
     std::vector<std::pair<glintscope::Footprint, glintscope::DiskPoint>> queries(1024);
     for (auto& [footprint, h] : queries) {
-        footprint.centre_um = {1024.0 * u(rng), 1024.0 * u(rng)};
-        footprint.sigma_um = 20.0;
-        const double r = 0.3 * std::sqrt(u(rng)), phi = 2.0 * glintscope::pi * u(rng);
+        footprint.centre_um = {1024.0 * uniform(), 1024.0 * uniform()};
+        shape(footprint, uniform);
+        const double r = 0.3 * std::sqrt(uniform()), phi = 2.0 * glintscope::pi * uniform();
         h = {r * std::cos(phi), r * std::sin(phi)};
     }
     std::size_t k = 0;
@@ -103,7 +106,35 @@ void BM_PndfPointQuerySigma20(benchmark::State& state) {
         benchmark::DoNotOptimize(glintscope::point_normal_density(tree, footprint, h));
     }
 }
+
+void BM_PndfPointQuerySigma20(benchmark::State& state) {
+    const glintscope::NormalBoundsTree tree =
+        glintscope::make_normal_bounds_tree(builtin_surface(), tree_settings(state.range(0)), 256);
+    time_point_queries(state, tree, 22, [](glintscope::Footprint& footprint, const auto&) { footprint.sigma_um = 20.0; });
+}
 BENCHMARK(BM_PndfPointQuerySigma20)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond);
+
+// A geometric render's shading point at the Patch scene's image centre, 1280 × 720 × 4 spp: its
+// cell on the patch is 37 × 53 µm (the longer side along the view's azimuth, +y). Argument 0: the
+// cell itself as the rectangle it queries now (render.cpp), turned by a random angle; 1: the
+// elliptical Gaussian of the same covariance it queried before 2026-11-26 (σ_c = √2 · 53/√12,
+// σ_minor = √2 · 37/√12), cut at 6σ. Adaptive tree, random centres and |h| ≤ 0.3 as above.
+void BM_PndfPointQueryPatchCell(benchmark::State& state) {
+    const glintscope::NormalBoundsTree tree = glintscope::make_normal_bounds_tree(builtin_surface(), tree_settings(true), 256);
+    const bool rectangle = state.range(0) == 0;
+    time_point_queries(state, tree, 24, [rectangle](glintscope::Footprint& footprint, const auto& uniform) {
+        footprint.axis_radians = glintscope::pi * uniform();
+        if (rectangle) {
+            footprint.shape = glintscope::FootprintShape::box;
+            footprint.size_um = 53.0;
+            footprint.size_y_um = 37.0;
+        } else {
+            footprint.sigma_um = std::sqrt(2.0 / 12.0) * 53.0;
+            footprint.sigma_minor_um = std::sqrt(2.0 / 12.0) * 37.0;
+        }
+    });
+}
+BENCHMARK(BM_PndfPointQueryPatchCell)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // The point query's sampler for one σ_c = 20 µm footprint (argument as above): range(1) = 0 times
 // the making of its cumulative weights over the support; 1 times a draw of h from them.

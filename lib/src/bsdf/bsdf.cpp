@@ -44,19 +44,27 @@ const MethodEntry& method_entry(const std::string& method) {
     throw Error("unknown method '" + method + "'");  // plan_lobe has named the known ones before
 }
 
+// Whether the point field answers the planned (axis-aligned) footprint as the images do: a box of
+// a method whose point query takes boxes on the texels' lattice is answered from its images, whose
+// lattice follows the box's edges, so that eval is the image at pixel centres (the conformance
+// suite's 1e-4; the point query differs by its triangles' steps, docs/geometric.md).
+bool point_field_answers(const MethodEntry& entry, const Footprint& footprint) {
+    return entry.point_field && !(entry.info.rotated_boxes && footprint.shape == FootprintShape::box);
+}
+
 // The method's own single-direction answers for the planned query's footprint, if it has any:
 // its answers for one footprint, else its point field's at that footprint.
 PointAnswers point_answers(const std::string& method, const LobeQuery& planned) {
     const MethodEntry& entry = method_entry(method);
     if (entry.point) return entry.point(planned);
-    if (entry.point_field) return entry.point_field(planned)(planned.footprint);
+    if (point_field_answers(entry, planned.footprint)) return entry.point_field(planned)(planned.footprint);
     return {};
 }
 
 // An NDF method's D(h) for the planned query's footprint from its point field, if it has one.
 PointAnswers ndf_point_answers(const std::string& method, const LobeQuery& planned) {
     const MethodEntry& entry = method_entry(method);
-    if (entry.point_field) return entry.point_field(planned)(planned.footprint);
+    if (point_field_answers(entry, planned.footprint)) return entry.point_field(planned)(planned.footprint);
     return {};
 }
 
@@ -246,6 +254,7 @@ struct BsdfField::State {
     LobeQuery query;  // planned; its footprint replaced by each `at`
     PointAnswersAt at;
     bool ellipses = false;
+    bool rotated_boxes = false;
 };
 
 BsdfField::BsdfField(std::shared_ptr<const State> state) : state_(std::move(state)) {}
@@ -253,6 +262,7 @@ BsdfField::BsdfField(std::shared_ptr<const State> state) : state_(std::move(stat
 const std::string& BsdfField::method() const { return state_->method; }
 const std::vector<double>& BsdfField::wavelengths_um() const { return state_->query.wavelengths_um; }
 bool BsdfField::answers_ellipses() const { return state_->ellipses; }
+bool BsdfField::answers_rotated_boxes() const { return state_->rotated_boxes; }
 
 Bsdf BsdfField::at(const Footprint& footprint) const {
     auto state = std::make_shared<Bsdf::State>();
@@ -261,6 +271,9 @@ Bsdf BsdfField::at(const Footprint& footprint) const {
     validate(footprint);
     if (is_elliptical(footprint) && !state_->ellipses)
         throw Error(state_->method + " with these settings takes isotropic Gaussian footprints, not an ellipse");
+    if (is_rotated_box(footprint) && !state_->rotated_boxes)
+        throw Error(state_->method + " with these settings takes axis-aligned box footprints, not a box rotated by " +
+                    shortest_text(footprint.axis_radians) + " rad");
     state->query.footprint = footprint;
     state->point = state_->at(footprint);
     return Bsdf(std::move(state));
@@ -284,13 +297,18 @@ BsdfField make_bsdf_field(const std::string& method, const LobeQuery& query) {
                     (names.empty() ? std::string("none") : join(names)));
     }
     state->at = prefixed(method, [&] { return entry.point_field(state->query); });
-    if (entry.info.elliptical_footprints) {
-        // Whether these settings answer by the point query (else by images, which take no ellipse).
-        Footprint probe = state->query.footprint;
-        probe.shape = FootprintShape::gaussian;
-        probe.sigma_minor_um = 0.5 * probe.sigma_um;
-        state->ellipses = static_cast<bool>(state->at(probe).eval);
-    }
+    // Whether these settings answer a footprint the images cannot take by the point query.
+    const auto answers = [&](const Footprint& probe) { return static_cast<bool>(state->at(probe).eval); };
+    Footprint ellipse = state->query.footprint;
+    ellipse.shape = FootprintShape::gaussian;
+    ellipse.sigma_minor_um = 0.5 * ellipse.sigma_um;
+    state->ellipses = entry.info.elliptical_footprints && answers(ellipse);
+    Footprint rotated_box = state->query.footprint;
+    rotated_box.shape = FootprintShape::box;
+    rotated_box.size_um = rotated_box.size_y_um = 10.0;
+    rotated_box.sigma_minor_um = 0.0;
+    rotated_box.axis_radians = 0.5;
+    state->rotated_boxes = entry.info.rotated_boxes && answers(rotated_box);
     return BsdfField(std::move(state));
 }
 

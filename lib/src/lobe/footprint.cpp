@@ -28,14 +28,16 @@ void validate(const Footprint& footprint) {
                     shortest_text(footprint.centre_um.x) + ", " + shortest_text(footprint.centre_um.y) + ") um");
     if (footprint.shape == FootprintShape::gaussian && !(footprint.sigma_um > 0.0 && footprint.sigma_um <= 1e4))
         throw Error("coherence sigma must be between 0 and 10 mm, got " + shortest_text(footprint.sigma_um) + " um");
-    if (footprint.sigma_minor_um != 0.0 || footprint.axis_radians != 0.0) {
-        if (footprint.shape != FootprintShape::gaussian)
-            throw Error("only a Gaussian footprint can be elliptical (sigma_minor, axis)");
+    if (!std::isfinite(footprint.axis_radians))
+        throw Error("a footprint's axis must be a finite angle, got " + shortest_text(footprint.axis_radians));
+    if (footprint.shape == FootprintShape::whole && footprint.axis_radians != 0.0)
+        throw Error("the whole-field footprint has no axis to rotate");
+    const bool elliptical_axis = footprint.shape == FootprintShape::gaussian && footprint.axis_radians != 0.0;
+    if (footprint.sigma_minor_um != 0.0 || elliptical_axis) {
+        if (footprint.shape != FootprintShape::gaussian) throw Error("only a Gaussian footprint can be elliptical (sigma_minor)");
         if (!(footprint.sigma_minor_um > 0.0 && footprint.sigma_minor_um <= footprint.sigma_um))
             throw Error("an elliptical footprint's minor sigma must be positive and at most sigma_c (" +
                         shortest_text(footprint.sigma_um) + " um), got " + shortest_text(footprint.sigma_minor_um) + " um");
-        if (!std::isfinite(footprint.axis_radians))
-            throw Error("an elliptical footprint's axis must be a finite angle, got " + shortest_text(footprint.axis_radians));
     }
     if (footprint.shape == FootprintShape::box)
         for (const double side : {footprint.size_um, box_height_um(footprint)})
@@ -44,7 +46,11 @@ void validate(const Footprint& footprint) {
 }
 
 Point2 footprint_support_um(const Footprint& footprint) {
-    if (footprint.shape == FootprintShape::box) return {0.5 * box_width_um(footprint), 0.5 * box_height_um(footprint)};
+    if (footprint.shape == FootprintShape::box) {  // the bounding rectangle of a rotated box
+        const double c = std::fabs(std::cos(footprint.axis_radians)), s = std::fabs(std::sin(footprint.axis_radians));
+        const double half_width = 0.5 * box_width_um(footprint), half_height = 0.5 * box_height_um(footprint);
+        return {half_width * c + half_height * s, half_width * s + half_height * c};
+    }
     // The Gaussian's 3.25σ_c truncation of the wave methods (weight e^{−5.3}, |w|² e^{−10.6}).
     return {3.25 * footprint.sigma_um, 3.25 * footprint.sigma_um};
 }

@@ -31,6 +31,10 @@ void validate(const LobeQuery& query) {
     if (is_elliptical(query.footprint))
         throw Error("an elliptical footprint is answered only by a point query that takes one (a geometric render's "
                     "pixel footprint, BsdfField::at), not by a lobe query");
+    if (is_rotated_box(query.footprint))
+        throw Error("a rotated box footprint (axis " + shortest_text(query.footprint.axis_radians) +
+                    " rad) is answered only by a point query that takes one (a geometric render's pixel cell, "
+                    "BsdfField::at), not by a lobe query, whose boxes are axis-aligned");
     // The image alone holds N² floats per wavelength: refused here, before any method allocates.
     const auto image_gb = [&](double n) { return shortest_text(std::ceil(4.0 * n * n * query.wavelengths_um.size() / 1e8) / 10); };
     if (query.resolution < 4 || query.resolution > 8192)

@@ -9,6 +9,7 @@
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
+#include "numerics/small_polygon.hpp"
 #include "surface/catmull_rom.hpp"
 
 namespace glintscope {
@@ -399,25 +400,36 @@ Blur blur_for(double roughness, int resolution) {
     return blur;
 }
 
+// Where p lies in the triangle abc (pixels): the density there (per pixel area) of a unit mass
+// spread uniformly over it, 0 outside it or where its image is (numerically) a segment (as the
+// image deposits it along a line), and p's barycentric weights of b and of c.
+struct TriangleHit {
+    double density = 0.0;
+    double second = 0.0, third = 0.0;
+};
+
+[[gnu::always_inline]] inline TriangleHit triangle_hit(Pixel a, Pixel b, Pixel c, Pixel p) {
+    const double cross = (b.u - a.u) * (c.v - a.v) - (c.u - a.u) * (b.v - a.v);
+    const double d1 = (b.u - a.u) * (p.v - a.v) - (p.u - a.u) * (b.v - a.v);  // twice the area of abp: c's weight
+    const double d2 = (c.u - b.u) * (p.v - b.v) - (p.u - b.u) * (c.v - b.v);  // bcp: a's
+    const double d3 = (a.u - c.u) * (p.v - c.v) - (p.u - c.u) * (a.v - c.v);  // cap: b's
+    const bool inside = cross > 0.0 ? (d1 >= 0.0 && d2 >= 0.0 && d3 >= 0.0) : (d1 <= 0.0 && d2 <= 0.0 && d3 <= 0.0);
+    if (!inside) return {};
+    // The image's segment threshold (normal_density.cpp, deposit_small_triangle), in its pixels.
+    const double extent = 1.0 + std::max(std::max({a.u, b.u, c.u}) - std::min({a.u, b.u, c.u}),
+                                         std::max({a.v, b.v, c.v}) - std::min({a.v, b.v, c.v}));
+    if (std::abs(cross) < 2e-9 * extent * extent) return {};
+    return {2.0 / std::abs(cross), d3 / cross, d1 / cross};
+}
+
 // The density at p (per pixel area) of a unit mass spread uniformly over the triangle abc; with
-// a blur, that spread convolved with the Gaussian by the edge-midpoint rule. A triangle whose
-// image is (numerically) a segment is skipped unblurred, as the image deposits it along a line.
+// a blur, that spread convolved with the Gaussian by the edge-midpoint rule.
 double triangle_spread(Pixel a, Pixel b, Pixel c, Pixel p, const Blur& blur) {
     if (blur.sigma > 0.0) {
         const auto gaussian_at = [&](Pixel x, Pixel y) { return blur.at(p.u - 0.5 * (x.u + y.u), p.v - 0.5 * (x.v + y.v)); };
         return (gaussian_at(a, b) + gaussian_at(b, c) + gaussian_at(c, a)) / 3.0;
     }
-    const double cross = (b.u - a.u) * (c.v - a.v) - (c.u - a.u) * (b.v - a.v);
-    const double d1 = (b.u - a.u) * (p.v - a.v) - (p.u - a.u) * (b.v - a.v);
-    const double d2 = (c.u - b.u) * (p.v - b.v) - (p.u - b.u) * (c.v - b.v);
-    const double d3 = (a.u - c.u) * (p.v - c.v) - (p.u - c.u) * (a.v - c.v);
-    const bool inside = cross > 0.0 ? (d1 >= 0.0 && d2 >= 0.0 && d3 >= 0.0) : (d1 <= 0.0 && d2 <= 0.0 && d3 <= 0.0);
-    if (!inside) return 0.0;
-    // The image's segment threshold (normal_density.cpp, deposit_small_triangle), in its pixels.
-    const double extent = 1.0 + std::max(std::max({a.u, b.u, c.u}) - std::min({a.u, b.u, c.u}),
-                                         std::max({a.v, b.v, c.v}) - std::min({a.v, b.v, c.v}));
-    if (std::abs(cross) < 2e-9 * extent * extent) return 0.0;
-    return 2.0 / std::abs(cross);
+    return triangle_hit(a, b, c, p).density;
 }
 
 // The sub-cells of side h × k of a cell at (x, y): the weights (footprint weight at the
@@ -430,8 +442,34 @@ struct SubCells {
     double upper(int a, int b) const { return 0.5 * h * k * weight(x + a * h + h / 3.0, y + b * k + k * (2.0 / 3.0)); }
 };
 
+// A box's sampler weights of the sub-cells' triangles: each triangle's area inside the box × 1/(W·H),
+// what the query's preimage rule gives it over its image. Clipped in the box's frame, where the
+// box's sides run along the axes (a rotation keeps areas).
+struct BoxTriangles {
+    const BoxRegion& box;
+    const SubCells& cells;
+    double scale = 0.0;
+
+    // Sub-cell (a, b)'s lower triangle (its corners (0, 0), (1, 0), (1, 1)) or upper one ((0, 0),
+    // (1, 1), (0, 1)), in the box's frame, clipped by the box.
+    SmallPolygon clipped(int a, int b, bool upper) const {
+        return clip_to_rectangle(corners(a, b, upper), -box.half_width, box.half_width, -box.half_height, box.half_height);
+    }
+
+    SmallPolygon corners(int a, int b, bool upper) const {
+        const double x = cells.x + a * cells.h, y = cells.y + b * cells.k;
+        const DiskPoint p00 = box.local(x, y), p11 = box.local(x + cells.h, y + cells.k);
+        const DiskPoint second = upper ? p11 : box.local(x + cells.h, y), third = upper ? box.local(x, y + cells.k) : p11;
+        return {{p00, second, third}, 3};
+    }
+
+    double lower(int a, int b) const { return scale * polygon_area(clipped(a, b, false)); }
+    double upper(int a, int b) const { return scale * polygon_area(clipped(a, b, true)); }
+};
+
 // Σ of the weights of a cell's 2n² triangles, one by one.
-double cell_weight(const SubCells& cells, int n) {
+template <typename Triangles>
+double cell_weight(const Triangles& cells, int n) {
     double sum = 0.0;
     for (int b = 0; b < n; ++b)
         for (int a = 0; a < n; ++a) sum += cells.lower(a, b) + cells.upper(a, b);
@@ -469,6 +507,8 @@ struct Query {
     Pixel normal_quanta;
     std::int64_t bin_row = -1;
     SubCornerStore& store;
+    bool boxed = false;  // a box footprint: weight.scale where the preimage rule puts h's point in `box`
+    BoxRegion box{};
 
     // The lattice's x of the unwrapped cell I (as the image computes it, from its origin).
     double cell_x(long long cell) const { return lattice.x0 + static_cast<double>(cell - first_x) * lattice.step_x; }
@@ -481,6 +521,7 @@ struct Query {
         const SubCells cells{weight, cell_x(unwrapped_i), cell_y(unwrapped_j), lattice.step_x / n, lattice.step_y / n};
         // Centroid weights only of triangles whose spread reaches the normal: exp is costly.
         const auto pair = [&](Pixel p00, Pixel p10, Pixel p01, Pixel p11, int a, int b) {
+            if (boxed) return box_pair(cells, p00, p10, p01, p11, a, b);
             double sum = 0.0;
             const double lower = triangle_spread(p00, p10, p11, normal, blur);
             if (lower > 0.0) sum += lower * cells.lower(a, b);
@@ -535,16 +576,39 @@ struct Query {
         return sum;
     }
 
+    // A box's share of sub-cell (a, b)'s two triangles, lower (p00, p10, p11) and upper (p00, p11,
+    // p01): a triangle's density where the surface point whose normal is h, s = Σ barycentric(h) ·
+    // corner (exact for the affine map of the triangle model), lies in the box, times
+    // area/(W·H); with a blur, where the triangle's centroid does.
+    double box_pair(const SubCells& cells, Pixel p00, Pixel p10, Pixel p01, Pixel p11, int a, int b) const {
+        const double x = cells.x + a * cells.h, y = cells.y + b * cells.k, mass = 0.5 * cells.h * cells.k * weight.scale;
+        double sum = 0.0;
+        if (blur.sigma > 0.0) {
+            if (box.holds(x + cells.h * (2.0 / 3.0), y + cells.k / 3.0)) sum += triangle_spread(p00, p10, p11, normal, blur) * mass;
+            if (box.holds(x + cells.h / 3.0, y + cells.k * (2.0 / 3.0))) sum += triangle_spread(p00, p11, p01, normal, blur) * mass;
+            return sum;
+        }
+        // The lower triangle's corners are the sub-cell's (0, 0), (1, 0), (1, 1); the upper's (0, 0), (1, 1), (0, 1).
+        const TriangleHit lower = triangle_hit(p00, p10, p11, normal);
+        if (lower.density > 0.0 && box.holds(x + (lower.second + lower.third) * cells.h, y + lower.third * cells.k))
+            sum += lower.density * mass;
+        const TriangleHit upper = triangle_hit(p00, p11, p01, normal);
+        if (upper.density > 0.0 && box.holds(x + upper.second * cells.h, y + (upper.second + upper.third) * cells.k))
+            sum += upper.density * mass;
+        return sum;
+    }
+
     // Whether the corners' bounding box, widened by `by` pixels, holds the normal.
     bool quad_holds(Pixel a, Pixel b, Pixel c, Pixel d, double by) const {
         return normal.u >= std::min({a.u, b.u, c.u, d.u}) - by && normal.u <= std::max({a.u, b.u, c.u, d.u}) + by &&
                normal.v >= std::min({a.v, b.v, c.v, d.v}) - by && normal.v <= std::max({a.v, b.v, c.v, d.v}) + by;
     }
 
-    // Whether the unwrapped cells [x0, x1) × [y0, y1) lie wholly beyond the weight's cutoff.
+    // Whether the unwrapped cells [x0, x1) × [y0, y1) lie wholly beyond the weight's cutoff (a box: outside it).
     bool beyond_cutoff(long long x0, long long x1, long long y0, long long y1) const {
-        if (weight.shape != FootprintShape::gaussian) return false;
         const double left = cell_x(x0), right = cell_x(x1), bottom = cell_y(y0), top = cell_y(y1);
+        if (boxed) return box.misses(left, bottom, right, top);
+        if (weight.shape != FootprintShape::gaussian) return false;
         const double dx = std::max({0.0, left - weight.centre.x, weight.centre.x - right});
         const double dy = std::max({0.0, bottom - weight.centre.y, weight.centre.y - top});
         return dx * dx + dy * dy > weight.cutoff_squared * (1.0 + 1e-9);
@@ -612,6 +676,20 @@ long long floor_div(long long a, long long b) { return a >= 0 ? a / b : -((-a + 
 // The unwrapped index of a lattice's first cell along one axis (the lattice runs through the samples).
 long long first_cell(double origin, double texel) { return std::llround((origin - 0.5 * texel) / texel); }
 
+// The point query's lattice: the texels' for every footprint; a box's over its bounding rectangle
+// (the preimage rule cuts the texels' triangles at its edges), unlike the image's box lattice,
+// which follows the edges of an axis-aligned box.
+Lattice point_lattice(const TexelGrid& grid, const Footprint& footprint) {
+    if (footprint.shape != FootprintShape::box) return lattice_for(grid, footprint);
+    const Point2 reach = box_region(footprint).reach();
+    Lattice lattice;
+    lattice.step_x = grid.dx_um;
+    lattice.step_y = grid.dy_um;
+    aligned_axis(footprint.centre_um.x - reach.x, footprint.centre_um.x + reach.x, grid.dx_um, grid.dx_um, lattice.x0, lattice.nx);
+    aligned_axis(footprint.centre_um.y - reach.y, footprint.centre_um.y + reach.y, grid.dy_um, grid.dy_um, lattice.y0, lattice.ny);
+    return lattice;
+}
+
 // The footprint weight of the truncated domain: a Gaussian truncated at K σ keeps 1 − e^{−K²/2}.
 double truncated_weight(const Footprint& footprint) {
     return footprint.shape == FootprintShape::gaussian ? 1.0 - std::exp(-0.5 * kTruncationSigmas * kTruncationSigmas) : 1.0;
@@ -633,12 +711,10 @@ NormalBoundsTree make_normal_bounds_tree(std::shared_ptr<const BicubicInterpolan
 }
 
 double point_normal_density(const NormalBoundsTree& tree, const Footprint& footprint, DiskPoint normal, Pruning pruning) {
-    if (!answers_points(footprint))
-        throw Error("the point query of the normal density takes Gaussian and whole-field footprints, not a box");
     if (!inside_unit_disk(normal)) return 0.0;
     const double half_resolution = 0.5 * tree.resolution;
     const TexelGrid& grid = tree.grid;
-    const Lattice lattice = lattice_for(grid, footprint);
+    const Lattice lattice = point_lattice(grid, footprint);
     const Blur blur = blur_for(tree.intrinsic_roughness, tree.resolution);
     const Pixel pixel{(normal.x + 1.0) * half_resolution, (1.0 - normal.y) * half_resolution};
     Query query{tree,
@@ -652,7 +728,9 @@ double point_normal_density(const NormalBoundsTree& tree, const Footprint& footp
                 pruning == Pruning::on,
                 {(pixel.u - tree.origin) / tree.quantum, (pixel.v - tree.origin) / tree.quantum},
                 -1,
-                sub_corner_store()};
+                sub_corner_store(),
+                footprint.shape == FootprintShape::box,
+                box_region(footprint)};
     const double bin_u = std::floor((pixel.u - tree.origin) / tree.bin_pixels);
     const double bin_v = std::floor((pixel.v - tree.origin) / tree.bin_pixels);
     if (bin_u >= 0.0 && bin_v >= 0.0 && bin_u < tree.bins_across && bin_v < tree.bins_across)
@@ -673,16 +751,16 @@ double point_normal_density(const NormalBoundsTree& tree, const Footprint& footp
 }
 
 NormalSampler make_normal_sampler(const NormalBoundsTree& tree, const Footprint& footprint) {
-    if (!answers_points(footprint)) throw Error("normals are drawn from the point query for Gaussian and whole-field footprints, not a box");
     if (tree.intrinsic_roughness > 0.0) throw Error("normals are drawn from the point query without intrinsic roughness only");
     const TexelGrid& grid = tree.grid;
     NormalSampler sampler;
     sampler.footprint = footprint;
-    sampler.lattice = lattice_for(grid, footprint);
+    sampler.lattice = point_lattice(grid, footprint);
     sampler.weight = weight_for(grid, footprint);
     sampler.first_x = first_cell(sampler.lattice.x0, grid.dx_um);
     sampler.first_y = first_cell(sampler.lattice.y0, grid.dy_um);
     const Lattice& lattice = sampler.lattice;
+    const BoxRegion box = box_region(footprint);
     sampler.cumulative.resize(static_cast<std::size_t>(lattice.nx * lattice.ny));
     double sum = 0.0;
     for (long long cj = 0; cj < lattice.ny; ++cj)
@@ -693,16 +771,68 @@ NormalSampler make_normal_sampler(const NormalBoundsTree& tree, const Footprint&
             const SubCells cells{sampler.weight, lattice.x0 + static_cast<double>(ci) * lattice.step_x,
                                  lattice.y0 + static_cast<double>(cj) * lattice.step_y, lattice.step_x / n, lattice.step_y / n};
             const Weight& w = sampler.weight;
-            const double far_x = std::max(std::abs(cells.x - w.centre.x), std::abs(cells.x + lattice.step_x - w.centre.x));
-            const double far_y = std::max(std::abs(cells.y - w.centre.y), std::abs(cells.y + lattice.step_y - w.centre.y));
-            const bool within = w.shape == FootprintShape::gaussian && !w.elliptical && far_x * far_x + far_y * far_y < w.cutoff_squared;
-            sum += within ? separable_cell_weight(cells, n) : cell_weight(cells, n);
+            if (footprint.shape == FootprintShape::box) {
+                const double x1 = cells.x + lattice.step_x, y1 = cells.y + lattice.step_y;
+                if (box.contains(cells.x, cells.y, x1, y1)) sum += w.scale * lattice.step_x * lattice.step_y;
+                else if (!box.misses(cells.x, cells.y, x1, y1)) sum += cell_weight(BoxTriangles{box, cells, w.scale}, n);
+            } else {
+                const double far_x = std::max(std::abs(cells.x - w.centre.x), std::abs(cells.x + lattice.step_x - w.centre.x));
+                const double far_y = std::max(std::abs(cells.y - w.centre.y), std::abs(cells.y + lattice.step_y - w.centre.y));
+                const bool within = w.shape == FootprintShape::gaussian && !w.elliptical && far_x * far_x + far_y * far_y < w.cutoff_squared;
+                sum += within ? separable_cell_weight(cells, n) : cell_weight(cells, n);
+            }
             sampler.cumulative[static_cast<std::size_t>(cj * lattice.nx + ci)] = sum;
         }
     if (!(sum > 0.0)) throw Error("the footprint weighs no triangle of the field");
     sampler.density_scale = truncated_weight(footprint) / sum;
     return sampler;
 }
+
+namespace {
+
+// The barycentric weights of a point drawn uniformly over a triangle of the chosen cell from two
+// uniforms: over the whole triangle by √s (Turk 1990); for a box, over its part inside the box
+// (the clipped polygon's fan triangle by area, then uniformly in it, in the box's frame).
+struct Barycentric {
+    double first = 1.0, second = 0.0, third = 0.0;
+};
+
+Barycentric uniform_in_triangle(double share, double u2) {
+    const double root = std::sqrt(share);
+    return {1.0 - root, root * (1.0 - u2), root * u2};
+}
+
+Barycentric uniform_in_clipped(const BoxTriangles& triangles, int a, int b, bool upper, double share, double u2) {
+    const SmallPolygon whole = triangles.corners(a, b, upper), piece = triangles.clipped(a, b, upper);
+    if (piece.count < 3) return {};
+    // The fan (0, k, k + 1) triangle where the running area passes the share of the polygon's.
+    const auto fan_area = [&](int k) { return polygon_area({{piece.corners[0], piece.corners[k], piece.corners[k + 1]}, 3}); };
+    double total = 0.0;
+    for (int k = 1; k + 1 < piece.count; ++k) total += fan_area(k);
+    const double goal = share * total;
+    double running = 0.0;
+    int fan = piece.count - 2;
+    for (int k = 1; k + 1 < piece.count; ++k) {
+        if (running + fan_area(k) > goal) {
+            fan = k;
+            break;
+        }
+        running += fan_area(k);
+    }
+    const double within = std::clamp((goal - running) / fan_area(fan), 0.0, 1.0);
+    const Barycentric in_fan = uniform_in_triangle(within, u2);
+    const DiskPoint p0 = piece.corners[0], p1 = piece.corners[fan], p2 = piece.corners[fan + 1];
+    const DiskPoint q{in_fan.first * p0.x + in_fan.second * p1.x + in_fan.third * p2.x,
+                      in_fan.first * p0.y + in_fan.second * p1.y + in_fan.third * p2.y};
+    // q's weights in the whole triangle ABC: areas of AqC and ABq over ABC's.
+    const DiskPoint A = whole.corners[0], B = whole.corners[1], C = whole.corners[2];
+    const double twice = (B.x - A.x) * (C.y - A.y) - (C.x - A.x) * (B.y - A.y);
+    const double second = ((q.x - A.x) * (C.y - A.y) - (C.x - A.x) * (q.y - A.y)) / twice;
+    const double third = ((B.x - A.x) * (q.y - A.y) - (q.x - A.x) * (B.y - A.y)) / twice;
+    return {1.0 - second - third, second, third};
+}
+
+}  // namespace
 
 std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const NormalSampler& sampler, double u1, double u2) {
     // A cell by its weight (u1), a triangle of it by its weight (u1's remainder), a uniform
@@ -721,13 +851,19 @@ std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const Norma
     const int n = tree.subdivision[static_cast<std::size_t>(j) * grid.cols + i];
     const SubCells cells{sampler.weight, lattice.x0 + static_cast<double>(ci) * lattice.step_x,
                          lattice.y0 + static_cast<double>(cj) * lattice.step_y, lattice.step_x / n, lattice.step_y / n};
+    const bool boxed = sampler.footprint.shape == FootprintShape::box;
+    const BoxRegion box = box_region(sampler.footprint);
+    const BoxTriangles box_triangles{box, cells, sampler.weight.scale};
     // The triangle: 2(b·n + a) + (0 lower, 1 upper), where the running weight passes the goal.
-    const double goal = remainder * cell_weight(cells, n);
+    const auto triangle_weight = [&](int a, int b, bool upper) {
+        if (boxed) return upper ? box_triangles.upper(a, b) : box_triangles.lower(a, b);
+        return upper ? cells.upper(a, b) : cells.lower(a, b);
+    };
+    const double goal = remainder * (boxed ? cell_weight(box_triangles, n) : cell_weight(cells, n));
     double running = 0.0, share = 0.0;
     int chosen = -1;
     for (int t = 0; t < 2 * n * n && chosen < 0; ++t) {
-        const int a = (t / 2) % n, b = (t / 2) / n;
-        const double w = t % 2 == 0 ? cells.lower(a, b) : cells.upper(a, b);
+        const double w = triangle_weight((t / 2) % n, (t / 2) / n, t % 2 == 1);
         if (w > 0.0 && (running + w > goal || t == 2 * n * n - 1)) chosen = t, share = std::clamp((goal - running) / w, 0.0, 1.0);
         running += w;
     }
@@ -740,11 +876,13 @@ std::optional<DiskPoint> sample_normal(const NormalBoundsTree& tree, const Norma
         const SubCorners corners(patch, c, n, sub_corner_store());
         p00 = corners.at(a, b), p10 = corners.at(a + 1, b), p01 = corners.at(a, b + 1), p11 = corners.at(a + 1, b + 1);
     }
-    const Pixel first = p00, second = chosen % 2 == 0 ? p10 : p11, third = chosen % 2 == 0 ? p11 : p01;
-    // A uniform point of the triangle: √s spreads the barycentric mass evenly (Turk 1990).
-    const double root = std::sqrt(share);
-    const Pixel point{(1.0 - root) * first.u + root * (1.0 - u2) * second.u + root * u2 * third.u,
-                      (1.0 - root) * first.v + root * (1.0 - u2) * second.v + root * u2 * third.v};
+    const bool upper = chosen % 2 == 1;
+    const Pixel first = p00, second = upper ? p11 : p10, third = upper ? p01 : p11;
+    // The affine map of the triangle takes a uniform point of it (or of its part in the box) to a
+    // uniform point of its image (of that part's image).
+    const Barycentric w = boxed ? uniform_in_clipped(box_triangles, a, b, upper, share, u2) : uniform_in_triangle(share, u2);
+    const Pixel point{w.first * first.u + w.second * second.u + w.third * third.u,
+                      w.first * first.v + w.second * second.v + w.third * third.v};
     if (!(triangle_spread(first, second, third, point, Blur{}) > 0.0)) return std::nullopt;
     const double half_resolution = 0.5 * tree.resolution;
     const DiskPoint normal{point.u / half_resolution - 1.0, 1.0 - point.v / half_resolution};

@@ -29,10 +29,18 @@
 // pixels instead and restores mass blurred past the rim by a common factor; the query does not
 // (tests/lib/normal_density/normal_bounds_tree_test.cpp measures the difference).
 //
-// Gaussian (isotropic or elliptical: the weight of covariance Σ_c/2, triangle_model.hpp) and
-// whole-field footprints only: a box's lattice follows its edges, not the texels
-// (point_normal_density throws Error for one). Immutable once built, safe from many threads, no
-// allocation per query.
+// Gaussian (isotropic or elliptical: the weight of covariance Σ_c/2, triangle_model.hpp),
+// whole-field and box footprints, a box axis-aligned or rotated (Footprint::axis_radians): the
+// texels' lattice over the box's bounding rectangle, and the weight of a triangle whose image
+// holds h is 1/(W·H) where the surface point whose normal is h, s = Σ barycentric(h) · corner,
+// lies in the box (half-open, BoxRegion), else 0: D(h) is then exactly the density of the
+// triangle model clipped by the box, boxes that tile a region partition every triangle's mass,
+// and no truncation divides D. With intrinsic roughness (a blurred spread has no one preimage)
+// the indicator is taken at the triangle's centroid. Tiles and cells wholly outside the box are
+// skipped, so a box's query costs what its area does. The image's box lattice follows an
+// axis-aligned box's edges instead (normal_density.cpp): the two agree at pixel centres only to
+// the triangles' steps (tests/lib/normal_density/normal_bounds_tree_test.cpp). Immutable once
+// built, safe from many threads, no allocation per query.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -102,11 +110,8 @@ NormalBoundsTree make_normal_bounds_tree(std::shared_ptr<const BicubicInterpolan
 // visits every triangle of the support (tests: pruning must not change the result).
 enum class Pruning { on, off };
 
-// Whether point_normal_density answers the footprint (Gaussian or whole field, not a box).
-inline bool answers_points(const Footprint& footprint) { return footprint.shape != FootprintShape::box; }
-
 // D at the disk point (m_x, m_y) for the footprint, per unit area of the projected disk;
-// 0 outside the disk. Throws Error for a box footprint.
+// 0 outside the disk.
 double point_normal_density(const NormalBoundsTree& tree, const Footprint& footprint, DiskPoint normal,
                             Pruning pruning = Pruning::on);
 
@@ -114,7 +119,9 @@ double point_normal_density(const NormalBoundsTree& tree, const Footprint& footp
 // the D(h) of the point query is the push-forward of the footprint weight through the piecewise
 // affine normal map, so a draw picks a texel cell of the support by its weight (Σ of its
 // triangles' centroid weight × area), a triangle of it by its weight, and a uniform point of
-// the triangle's image. Built once per footprint (its cost is one pass over the support's
+// the triangle's image. For a box a triangle weighs its area inside the box over W·H, and the
+// point is uniform over the image of that part (the clipped polygon's), which is exactly the
+// preimage rule's density: sampled and queried D agree but for rounding. Built once per footprint (its cost is one pass over the support's
 // triangles' centroids, no normals evaluated); immutable, safe from many threads.
 struct NormalSampler {
     Footprint footprint;
@@ -127,7 +134,7 @@ struct NormalSampler {
     double density_scale = 1.0;
 };
 
-// Throws Error for a box footprint or a tree with intrinsic roughness.
+// Throws Error for a tree with intrinsic roughness, or a footprint that weighs no triangle.
 NormalSampler make_normal_sampler(const NormalBoundsTree& tree, const Footprint& footprint);
 
 // A normal from two uniforms in [0, 1); none where the drawn triangle's image is a segment (the

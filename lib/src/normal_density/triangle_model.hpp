@@ -73,6 +73,60 @@ struct Weight {
     }
 };
 
+// A box footprint's rectangle on the surface (the point query's box, which may be rotated): its
+// centre, its width's axis (cos, sin of Footprint::axis_radians) and half sides. A point belongs
+// to it when its coordinates along the axes lie in [−half, half): half-open, so that boxes tiling
+// a region hold each point exactly once.
+struct BoxRegion {
+    Point2 centre;
+    double cos_axis = 1.0, sin_axis = 0.0;
+    double half_width = 0.0, half_height = 0.0;
+
+    // (x, y) in the box's frame: along its width, along its height.
+    [[gnu::always_inline]] DiskPoint local(double x, double y) const {
+        const double dx = x - centre.x, dy = y - centre.y;
+        return {cos_axis * dx + sin_axis * dy, cos_axis * dy - sin_axis * dx};
+    }
+
+    [[gnu::always_inline]] bool holds(double x, double y) const {
+        const DiskPoint p = local(x, y);
+        return p.x >= -half_width && p.x < half_width && p.y >= -half_height && p.y < half_height;
+    }
+
+    // Half sides of the bounding rectangle along x and y.
+    Point2 reach() const {
+        const double c = std::abs(cos_axis), s = std::abs(sin_axis);
+        return {half_width * c + half_height * s, half_width * s + half_height * c};
+    }
+
+    // Whether the rectangle [x0, x1] × [y0, y1] lies wholly outside the box, by a margin far above
+    // rounding (separating axes: x and y, then the box's own two), so that a cell there, whose
+    // triangles' points all lie outside, can be skipped unevaluated.
+    bool misses(double x0, double y0, double x1, double y1) const {
+        const Point2 r = reach();
+        const double margin = 1e-9 * (half_width + half_height);
+        if (x0 > centre.x + r.x + margin || x1 < centre.x - r.x - margin || y0 > centre.y + r.y + margin ||
+            y1 < centre.y - r.y - margin)
+            return true;
+        const double c = std::abs(cos_axis), s = std::abs(sin_axis), hx = 0.5 * (x1 - x0), hy = 0.5 * (y1 - y0);
+        const DiskPoint middle = local(0.5 * (x0 + x1), 0.5 * (y0 + y1));
+        return std::abs(middle.x) > half_width + hx * c + hy * s + margin ||
+               std::abs(middle.y) > half_height + hx * s + hy * c + margin;
+    }
+
+    // Whether the rectangle [x0, x1] × [y0, y1] lies wholly inside the box (all four corners do).
+    bool contains(double x0, double y0, double x1, double y1) const {
+        for (const DiskPoint p : {local(x0, y0), local(x1, y0), local(x0, y1), local(x1, y1)})
+            if (!(std::abs(p.x) < half_width && std::abs(p.y) < half_height)) return false;
+        return true;
+    }
+};
+
+inline BoxRegion box_region(const Footprint& footprint) {
+    return {footprint.centre_um, std::cos(footprint.axis_radians), std::sin(footprint.axis_radians),
+            0.5 * box_width_um(footprint), 0.5 * box_height_um(footprint)};
+}
+
 // First lattice index at or below `from` and the count of cells up to `to`, for a lattice
 // through the sample positions (k + ½)·dx with step h.
 inline void aligned_axis(double from, double to, double texel, double step, double& origin, long long& count) {

@@ -423,6 +423,7 @@ void draw_vertical_scale_bar(OIIO::ImageBuf& picture, int x0, int y0, int h, dou
 // The footprint in map view, and its copies across the periodic edges.
 void draw_footprint(OIIO::ImageBuf& picture, int x0, int y0, int w, int h, const Heightfield& field,
                     const Footprint& footprint) {
+    if (is_rotated_box(footprint)) throw Error("figures draw box footprints axis-aligned, not a rotated box");
     const double sx = w / field.width_um(), sy = h / field.height_um();
     for (int ty = -1; ty <= 1; ++ty)
         for (int tx = -1; tx <= 1; ++tx) {

@@ -148,10 +148,11 @@ std::string lights_text(const std::vector<PointLight>& lights) {
 }
 
 // Which footprint a shading point's BSDF is made for (shading_footprint).
-enum class PixelFootprint { none, equal_area, ellipse };
+enum class PixelFootprint { none, equal_area, ellipse, rectangle };
 
 PixelFootprint pixel_footprint_of(const Scene& scene, const BsdfField& field) {
     if (!renders_pixel_footprint(scene.method)) return PixelFootprint::none;
+    if (field.answers_rotated_boxes()) return PixelFootprint::rectangle;
     return field.answers_ellipses() ? PixelFootprint::ellipse : PixelFootprint::equal_area;
 }
 
@@ -167,7 +168,10 @@ Provenance render_metadata(const Scene& scene, const RenderSettings& settings, P
     metadata["render.light_spectrum"] = to_string(scene.light_spectrum);
     metadata["render.spp"] = std::to_string(settings.samples_per_pixel);
     metadata["render.footprint"] =
-        pixel == PixelFootprint::ellipse      ? "pixel: each shading point's cell on the patch, as its elliptical Gaussian "
+        pixel == PixelFootprint::rectangle    ? "pixel: each shading point's cell on the patch, as the rectangle of its covariance "
+                                                "(sides sqrt(12) major x sqrt(12) minor along its axis; sigma_c recorded per "
+                                                "query is not used)"
+        : pixel == PixelFootprint::ellipse    ? "pixel: each shading point's cell on the patch, as its elliptical Gaussian "
                                                 "(sigma_c recorded per query is not used)"
         : pixel == PixelFootprint::equal_area ? "pixel: each shading point's cell on the patch, as the isotropic Gaussian of "
                                                 "its area (sigma_c recorded per query is not used)"
@@ -204,8 +208,8 @@ void validate(const Scene& scene, const RenderSettings& settings) {
         throw Error("the patch tiles the heightfield, which is not periodic: its seams would show (load it as periodic, "
                     "or prepare a periodic crop)");
     if (renders_pixel_footprint(scene.method) && scene.query.footprint.shape != FootprintShape::gaussian)
-        throw Error("a " + scene.method + " render sees each pixel's footprint on the patch (a Gaussian), not a box or "
-                    "the whole field");
+        throw Error("a " + scene.method + " render sees each pixel's cell on the patch, not the query's box or the "
+                    "whole field");
     LobeQuery query = scene.query;
     query.quantity = Quantity::brdf;
     query.supersample = 1;
@@ -239,6 +243,17 @@ Footprint footprint_at(const Scene& scene, const ShadingPoint& point, PixelFootp
     Footprint footprint = scene.query.footprint;
     footprint.centre_um = point.heightfield_um;
     if (pixel == PixelFootprint::none) return footprint;
+    if (pixel == PixelFootprint::rectangle) {
+        // The cell itself, as the rectangle of its covariance (a side a has variance a²/12): sides
+        // √12 major × √12 minor along its axis, area 12 major minor, the cell's on the patch, so
+        // that neighbouring cells hardly overlap and each texel is tested about once.
+        footprint.shape = FootprintShape::box;
+        footprint.size_um = std::sqrt(12.0) * point.cell.major_um;
+        footprint.size_y_um = std::sqrt(12.0) * point.cell.minor_um;
+        footprint.sigma_minor_um = 0.0;
+        footprint.axis_radians = point.cell.axis_radians;
+        return footprint;
+    }
     // The weight |w|²/A_c has covariance Σ_c/2 (conventions.md): σ_c = √2 σ of the cell's Gaussian.
     footprint.shape = FootprintShape::gaussian;
     if (pixel == PixelFootprint::ellipse && point.cell.minor_um < point.cell.major_um) {

@@ -204,5 +204,39 @@ TEST(BsdfField, MethodsWithoutAPointFieldAndBadFootprintsAreRefused) {
     }
 }
 
+// A rotated box: images hold axis-aligned boxes only, so a lobe query (an image method such as
+// fft, or make_bsdf) refuses one in one line naming it, and so does a field whose point query
+// does not take one (gabor; geometric with shadowing, answered from images); geometric's field
+// without shadowing answers it.
+TEST(BsdfField, RotatedBoxesAreRefusedWhereImagesWouldAnswerThem) {
+    LobeQuery rotated = gabor_query();
+    set_box(rotated.footprint, "12x8um");
+    rotated.footprint.axis_radians = 0.4;
+    const auto refusal = [](const auto& attempt) {
+        try {
+            attempt();
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("(no error)");
+    };
+    for (const std::string& message : {refusal([&] { compute_lobe("fft", rotated); }), refusal([&] { make_bsdf("geometric", rotated); })}) {
+        EXPECT_NE(message.find("rotated box"), std::string::npos) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+    const LobeQuery query = gabor_query();
+    const BsdfField gabor = make_bsdf_field("gabor", query);
+    EXPECT_FALSE(gabor.answers_rotated_boxes());
+    EXPECT_NE(refusal([&] { gabor.at(rotated.footprint); }).find("not a box rotated"), std::string::npos);
+    LobeQuery shadowed = query;
+    shadowed.method_options["shadowing"] = "smith";
+    EXPECT_FALSE(make_bsdf_field("geometric", shadowed).answers_rotated_boxes());
+    EXPECT_NE(refusal([&] { make_bsdf_field("geometric", shadowed).at(rotated.footprint); }).find("not a box rotated"),
+              std::string::npos);
+    const BsdfField geometric = make_bsdf_field("geometric", query);
+    EXPECT_TRUE(geometric.answers_rotated_boxes());
+    EXPECT_TRUE(geometric.at(rotated.footprint).evaluates_directly());
+}
+
 }  // namespace
 }  // namespace glintscope

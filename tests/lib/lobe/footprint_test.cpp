@@ -44,6 +44,26 @@ TEST(Footprint, BadEllipsesAreRefusedInOneLine) {
     EXPECT_NE(message(box).find("only a Gaussian"), std::string::npos);
 }
 
+// A box may be rotated (its width's axis from +x): a finite axis; its reach is its bounding
+// rectangle's; the whole field has no axis.
+TEST(Footprint, ARotatedBoxReachesItsBoundingRectangle) {
+    Footprint box;
+    set_box(box, "20x10um");
+    EXPECT_FALSE(is_rotated_box(box));
+    box.axis_radians = pi / 6.0;
+    EXPECT_NO_THROW(validate(box));
+    EXPECT_TRUE(is_rotated_box(box));
+    const Point2 reach = footprint_support_um(box);
+    EXPECT_NEAR(reach.x, 10.0 * std::cos(pi / 6.0) + 5.0 * std::sin(pi / 6.0), 1e-12);
+    EXPECT_NEAR(reach.y, 10.0 * std::sin(pi / 6.0) + 5.0 * std::cos(pi / 6.0), 1e-12);
+    box.axis_radians = std::numeric_limits<double>::infinity();
+    EXPECT_THROW(validate(box), Error);
+    Footprint whole;
+    whole.shape = FootprintShape::whole;
+    whole.axis_radians = 0.2;
+    EXPECT_THROW(validate(whole), Error);
+}
+
 TEST(FootprintSet, CentresStayClearOfTheEdgesAndAreReproducible) {
     const Heightfield field = make_heightfield(200, 300, 1.0);
     Footprint footprint;

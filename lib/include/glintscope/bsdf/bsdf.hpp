@@ -77,14 +77,21 @@ Bsdf make_bsdf(const std::string& method, const LobeQuery& query);
 // A method's BSDFs for every footprint of one heightfield, for renderers whose every shading
 // point has its own footprint: what is costly (a hierarchy over the whole heightfield) is built
 // once from the query (its footprint, ω_i and supersampling unused), and `at` is then cheap and
-// safe to call from many threads. at(query.footprint) answers exactly as make_bsdf(method, query).
+// safe to call from many threads. at(query.footprint) answers exactly as make_bsdf(method, query)
+// (but for an axis-aligned box of a field that answers_rotated_boxes()).
 class BsdfField {
 public:
-    // Throws Error for an elliptical footprint if !answers_ellipses().
+    // Throws Error for an elliptical footprint if !answers_ellipses(), a rotated box if
+    // !answers_rotated_boxes().
     Bsdf at(const Footprint& footprint) const;
     // Whether `at` takes elliptical Gaussian footprints: the method says so
     // (MethodInfo::elliptical_footprints) and its point query answers them with these settings.
     bool answers_ellipses() const;
+    // Whether `at` takes rotated boxes (Footprint::axis_radians): the method says so
+    // (MethodInfo::rotated_boxes) and its point query answers them with these settings. Such a
+    // field answers axis-aligned boxes by its point query too (texels' lattice), where make_bsdf
+    // answers them from images (lattice along the box's edges; docs/geometric.md).
+    bool answers_rotated_boxes() const;
     const std::string& method() const;
     const std::vector<double>& wavelengths_um() const;
 

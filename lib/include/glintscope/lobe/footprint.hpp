@@ -24,6 +24,11 @@ enum class FootprintShape { gaussian, box, whole };
 // by `axis_radians` from +x to σ_c's axis, A_c = π σ_c σ_minor; geometric methods weigh the surface
 // by |w|²/A_c, the normalised Gaussian of covariance Σ_c/2. Only point queries that say so take
 // one (MethodInfo::elliptical_footprints); lobe images refuse it (validate(LobeQuery)).
+//
+// A box may be rotated (a render pixel's cell as a rectangle, docs/render.md): `axis_radians` is
+// then the angle of its width (`size_um`) from +x. Only point queries that say so take one
+// (MethodInfo::rotated_boxes); lobe images, whose boxes are axis-aligned, refuse it
+// (validate(LobeQuery), BsdfField::at).
 struct Footprint {
     Point2 centre_um;
     double sigma_um = 10.0;
@@ -31,13 +36,18 @@ struct Footprint {
     double size_um = 0.0;         // box side along x (box only)
     double size_y_um = 0.0;       // box side along y (box only); 0: size_um
     double sigma_minor_um = 0.0;  // Gaussian: σ across the axis; 0 (or σ_c): isotropic
-    double axis_radians = 0.0;    // elliptical Gaussian: σ_c's axis from +x
+    double axis_radians = 0.0;    // elliptical Gaussian: σ_c's axis from +x; box: its width's axis from +x
 };
 
 // Whether the footprint is a Gaussian with two different standard deviations.
 inline bool is_elliptical(const Footprint& footprint) {
     return footprint.shape == FootprintShape::gaussian && footprint.sigma_minor_um > 0.0 &&
            footprint.sigma_minor_um != footprint.sigma_um;
+}
+
+// Whether the footprint is a box whose sides do not run along x and y.
+inline bool is_rotated_box(const Footprint& footprint) {
+    return footprint.shape == FootprintShape::box && footprint.axis_radians != 0.0;
 }
 
 inline double box_width_um(const Footprint& footprint) { return footprint.size_um; }
@@ -49,12 +59,13 @@ inline double box_height_um(const Footprint& footprint) {
 // zero side, which validate(Footprint) would otherwise read as a square.
 void set_box(Footprint& footprint, std::string_view sides);
 
-// Checks a footprint's centre, σ_c (and an ellipse's σ_minor ≤ σ_c and axis) and box sides and throws Error naming the bad one (part of
-// validate(LobeQuery); also for commands that only draw a footprint).
+// Checks a footprint's centre, σ_c (and an ellipse's σ_minor ≤ σ_c), axis and box sides and throws
+// Error naming the bad one (part of validate(LobeQuery); also for commands that only draw a
+// footprint, which draw boxes axis-aligned: they refuse a rotated one themselves).
 void validate(const Footprint& footprint);
 
 // How far a footprint reaches from its centre along x and y: 3.25σ_c for a Gaussian (the wave
-// methods' truncation), half the sides for a box.
+// methods' truncation), half the sides of a box's bounding rectangle.
 Point2 footprint_support_um(const Footprint& footprint);
 
 // Which footprints a request averages over: the query's own (count 0, the default), `count`

@@ -29,6 +29,10 @@ struct MethodInfo {
     bool exact_pixels = false;         // it can integrate pixels exactly (supersample exact, its automatic choice)
     // Its point query for any footprint (BsdfField) answers elliptical Gaussians (Footprint::sigma_minor_um).
     bool elliptical_footprints = false;
+    // Its point query for any footprint (BsdfField) answers boxes, rotated ones too
+    // (Footprint::axis_radians), on the texels' lattice; make_bsdf answers an axis-aligned box from
+    // its images, whose lattice follows the box's edges.
+    bool rotated_boxes = false;
     // It reads square texels only: the pipeline resamples a field with dx ≠ dy to square texels
     // first (surface/square_texels.hpp) and records it (metadata heightfield.square_texels).
     bool needs_square_texels = false;

@@ -113,10 +113,13 @@ bool renders_pixel_footprint(const std::string& method);
 
 // The footprint whose BSDF a shading point evaluates from `field` (the scene's method's). A wave
 // method: the query's coherence footprint centred at the point (Yan 2018 §3.1). A geometric
-// method: the Gaussian whose surface weight |w|²/A_c (conventions.md, covariance Σ_c/2) is the
-// cell's footprint, centred at the point: the ellipse itself (σ_c = √2 major, σ_minor = √2 minor,
-// its axis) where the field answers ellipses (BsdfField::answers_ellipses), else the isotropic
-// Gaussian of the same area (σ_c = √2 · equal_area_sigma). A point light subtends no solid angle,
+// method: the cell itself where the field answers rotated boxes (BsdfField::answers_rotated_boxes),
+// as the rectangle of the cell's covariance centred at the point (sides √12 major × √12 minor,
+// the width along its axis: the cell's area, cells of neighbouring points hardly overlapping);
+// else the Gaussian whose surface weight |w|²/A_c (conventions.md, covariance Σ_c/2) has the cell's
+// covariance: the ellipse itself (σ_c = √2 major, σ_minor = √2 minor, its axis) where the field
+// answers ellipses (BsdfField::answers_ellipses), else the isotropic Gaussian of the same area
+// (σ_c = √2 · equal_area_sigma). A point light subtends no solid angle,
 // so the P-NDF's spikes are smoothed only by the method's option intrinsic_roughness (Yan 2014's
 // intrinsic roughness; 0: a flat region's D is a spike, black away from exact reflection).
 Footprint shading_footprint(const Scene& scene, const ShadingPoint& point, const BsdfField& field);

@@ -12,6 +12,7 @@
 #include "normal_density/normal_bounds_tree.hpp"
 #include "normal_density/normal_density.hpp"
 #include "numerics/disk_table.hpp"
+#include "numerics/small_polygon.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/optics/material.hpp"
 #include "glintscope/fit/ndf_fit.hpp"
@@ -142,36 +143,6 @@ NdfFit ellipsoid_fit(const DiskTable& density) {
     const double area = disk_pixel_area(masses.resolution);
     for (std::size_t k = 0; k < masses.values.size(); ++k) image.values[k] = static_cast<float>(masses.values[k] / area);
     return fit_ndf(image, NdfModelKind::ellipsoid);
-}
-
-// A convex polygon of at most 8 corners: a cell's quadrilateral image clipped by a pixel's 4 sides.
-struct SmallPolygon {
-    std::array<DiskPoint, 8> corners;
-    int count = 0;
-};
-
-// Its area (shoelace; corners in order, either orientation).
-double polygon_area(const SmallPolygon& polygon) {
-    double twice = 0.0;
-    for (int i = 0, j = polygon.count - 1; i < polygon.count; j = i++)
-        twice += polygon.corners[j].x * polygon.corners[i].y - polygon.corners[i].x * polygon.corners[j].y;
-    return 0.5 * std::abs(twice);
-}
-
-// The part of a polygon on one side of an axis-aligned line (Sutherland–Hodgman, one edge).
-SmallPolygon clip_polygon(const SmallPolygon& polygon, bool along_x, double bound, bool keep_below) {
-    SmallPolygon kept;
-    const auto coordinate = [&](DiskPoint p) { return along_x ? p.x : p.y; };
-    const auto inside = [&](DiskPoint p) { return keep_below ? coordinate(p) <= bound : coordinate(p) >= bound; };
-    for (int i = 0, j = polygon.count - 1; i < polygon.count; j = i++) {
-        const DiskPoint a = polygon.corners[j], b = polygon.corners[i];
-        if (inside(a) != inside(b) && kept.count < 8) {
-            const double t = (bound - coordinate(a)) / (coordinate(b) - coordinate(a));
-            kept.corners[kept.count++] = {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
-        }
-        if (inside(b) && kept.count < 8) kept.corners[kept.count++] = b;
-    }
-    return kept;
 }
 
 // Adds `mass` spread uniformly over a quadrilateral (in pixel units: x along columns, y along
@@ -326,8 +297,8 @@ PointAnswers geometric_point(const LobeQuery& query) {
 // intrinsic roughness also its sampler: h drawn with the point query's own density
 // (LazyNormalSampler: made on the first draw or pdf, so eval alone never pays for it),
 // ω_o = reflect(ω_i, h), pdf = that density × the half-vector Jacobian.
-// Shadowing needs the footprint's whole NDF (Smith's integral, the ellipsoid fit), and a box's
-// lattice is not the texels': those are answered from the images.
+// Boxes, rotated too, by the query's preimage rule (normal_bounds_tree.hpp). Shadowing needs the
+// footprint's whole NDF (Smith's integral, the ellipsoid fit): answered from the images.
 PointAnswersAt geometric_point_field(const LobeQuery& query) {
     const GeometricSettings settings = read_settings(query);
     if (settings.shadowing != Shadowing::none) return [](const Footprint&) { return PointAnswers{}; };
@@ -338,7 +309,6 @@ PointAnswersAt geometric_point_field(const LobeQuery& query) {
     const std::vector<ComplexIndex> indices = refractive_indices(query);
     const std::size_t layers = query.wavelengths_um.size();
     return [tree, indices, layers](const Footprint& footprint) -> PointAnswers {
-        if (!answers_points(footprint)) return {};
         PointAnswers answers;
         answers.eval = [tree, indices, layers, footprint](Vec3 omega_i, Vec3 omega_o) {
             const Vec3 h = normalize(omega_i + omega_o);
@@ -378,6 +348,7 @@ MethodEntry geometric_method() {
     entry.info.whole_field = true;
     entry.info.exact_pixels = true;
     entry.info.elliptical_footprints = true;
+    entry.info.rotated_boxes = true;
     entry.compute = geometric_lobe;
     entry.point = geometric_point;
     entry.point_field = geometric_point_field;

@@ -62,7 +62,6 @@ PointAnswersAt pndf_point_field(const LobeQuery& query) {
         make_normal_bounds_tree(query.surface, normal_density_settings(query), query.resolution));
     const std::size_t layers = query.wavelengths_um.size();
     return [tree, layers](const Footprint& footprint) -> PointAnswers {
-        if (!answers_points(footprint)) return {};
         PointAnswers answers;
         answers.eval = [tree, footprint, layers](Vec3, Vec3 h) {
             return std::vector<double>(layers, point_normal_density(*tree, footprint, {h.x, h.y}));
@@ -92,6 +91,7 @@ MethodEntry pndf_method() {
                           QueryField::supersample};
     entry.info.options = normal_density_options();
     entry.info.whole_field = true;
+    entry.info.rotated_boxes = true;
     entry.compute = patch_ndf;
     entry.point_field = pndf_point_field;
     return entry;

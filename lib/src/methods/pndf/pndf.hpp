@@ -6,9 +6,10 @@
 // Metadata: "pndf.refinement", "pndf.tolerance_pixels", "pndf.intrinsic_roughness_rad",
 // "pndf.weight_sigma_um".
 // Point field: one normal-bounds tree over the field (normal_density/normal_bounds_tree.hpp)
-// answers D(h) = eval(·, h) for any Gaussian or whole-field footprint, and without intrinsic
-// roughness samples h with that density (sample(·, u1, u2), pdf(·, h) = D(h) h_z × the
-// sampler's normalisation, 1 ± 1e-5); a box: from the images.
+// answers D(h) = eval(·, h) for any Gaussian, whole-field or box footprint (a rotated box too,
+// by the preimage rule), and without intrinsic roughness samples h with that density
+// (sample(·, u1, u2), pdf(·, h) = D(h) h_z × the sampler's normalisation, 1 ± 1e-5); make_ndf
+// answers an axis-aligned box from the images (bsdf.cpp), whose lattice follows its edges.
 #include <vector>
 
 #include "normal_density/normal_density.hpp"

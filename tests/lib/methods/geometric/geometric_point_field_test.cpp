@@ -1,7 +1,7 @@
 // The geometric method's point field (one normal-bounds tree per field, any footprint): the
 // microfacet lobe of pndf's point query, exactly reciprocal, conserving the energy that the
 // footprint's NDF image predicts, sampled with its own pdf (χ²) and a mean weight equal to that
-// albedo, and answered from the images where a tree cannot answer.
+// albedo, and answered from the images where a tree cannot answer (shadowing).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -40,13 +40,16 @@ Footprint gaussian_at(Point2 centre, double sigma) {
 
 TEST(GeometricPointField, IsTheMicrofacetLobeOfThePndfPointQuery) {
     // At ndf_oversampling 1 the geometric tree has pndf's triangles, so f_r·4 cosθ_i cosθ_o = D(h)
-    // without a material, for footprints other than the query's own.
+    // without a material, for footprints other than the query's own: Gaussians and a rotated box.
     LobeQuery query = small_isotropic_query(Quantity::brdf);
     query.method_options = {{"ndf_oversampling", "1"}};
     const PointAnswersAt geometric = geometric_method().point_field(query);
     const PointAnswersAt pndf = pndf_method().point_field(small_isotropic_query(Quantity::ndf));
     int nonzero = 0;
-    for (const Footprint& footprint : {gaussian_at({5.0, 7.0}, 6.0), gaussian_at({100.0, 60.0}, 15.0)}) {
+    Footprint rotated_box = gaussian_at({60.0, 30.0}, 10.0);
+    set_box(rotated_box, "30x14um");
+    rotated_box.axis_radians = 2.2;
+    for (const Footprint& footprint : {gaussian_at({5.0, 7.0}, 6.0), gaussian_at({100.0, 60.0}, 15.0), rotated_box}) {
         const PointAnswers f = geometric(footprint), d = pndf(footprint);
         ASSERT_TRUE(f.eval && d.eval);
         for (int k = 0; k < 60; ++k) {
@@ -192,12 +195,8 @@ TEST(GeometricPointField, SamplesFollowItsPdfAndTheMeanWeightIsTheAlbedo) {
     }
 }
 
-TEST(GeometricPointField, BoxFootprintsAndShadowingAreAnsweredFromTheImages) {
+TEST(GeometricPointField, ShadowingIsAnsweredFromTheImages) {
     const LobeQuery query = small_isotropic_query(Quantity::brdf);
-    Footprint box;
-    box.shape = FootprintShape::box;
-    box.size_um = 20.0;
-    EXPECT_FALSE(geometric_method().point_field(query)(box).eval);
     LobeQuery smith = query;
     smith.method_options = {{"shadowing", "smith"}};
     EXPECT_FALSE(geometric_method().point_field(smith)(query.footprint).eval);
