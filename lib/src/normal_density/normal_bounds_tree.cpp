@@ -681,7 +681,7 @@ long long first_cell(double origin, double texel) { return std::llround((origin 
 // which follows the edges of an axis-aligned box.
 Lattice point_lattice(const TexelGrid& grid, const Footprint& footprint) {
     if (footprint.shape != FootprintShape::box) return lattice_for(grid, footprint);
-    const Point2 reach = box_region(footprint).reach();
+    const Point2 reach = footprint_support_um(footprint);
     Lattice lattice;
     lattice.step_x = grid.dx_um;
     lattice.step_y = grid.dy_um;

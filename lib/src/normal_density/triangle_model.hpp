@@ -81,6 +81,7 @@ struct BoxRegion {
     Point2 centre;
     double cos_axis = 1.0, sin_axis = 0.0;
     double half_width = 0.0, half_height = 0.0;
+    Point2 reach;  // half sides of its bounding rectangle along x and y (footprint_support_um)
 
     // (x, y) in the box's frame: along its width, along its height.
     [[gnu::always_inline]] DiskPoint local(double x, double y) const {
@@ -93,17 +94,11 @@ struct BoxRegion {
         return p.x >= -half_width && p.x < half_width && p.y >= -half_height && p.y < half_height;
     }
 
-    // Half sides of the bounding rectangle along x and y.
-    Point2 reach() const {
-        const double c = std::abs(cos_axis), s = std::abs(sin_axis);
-        return {half_width * c + half_height * s, half_width * s + half_height * c};
-    }
-
     // Whether the rectangle [x0, x1] × [y0, y1] lies wholly outside the box, by a margin far above
     // rounding (separating axes: x and y, then the box's own two), so that a cell there, whose
     // triangles' points all lie outside, can be skipped unevaluated.
     bool misses(double x0, double y0, double x1, double y1) const {
-        const Point2 r = reach();
+        const Point2 r = reach;
         const double margin = 1e-9 * (half_width + half_height);
         if (x0 > centre.x + r.x + margin || x1 < centre.x - r.x - margin || y0 > centre.y + r.y + margin ||
             y1 < centre.y - r.y - margin)
@@ -124,7 +119,7 @@ struct BoxRegion {
 
 inline BoxRegion box_region(const Footprint& footprint) {
     return {footprint.centre_um, std::cos(footprint.axis_radians), std::sin(footprint.axis_radians),
-            0.5 * box_width_um(footprint), 0.5 * box_height_um(footprint)};
+            0.5 * box_width_um(footprint), 0.5 * box_height_um(footprint), footprint_support_um(footprint)};
 }
 
 // First lattice index at or below `from` and the count of cells up to `to`, for a lattice
