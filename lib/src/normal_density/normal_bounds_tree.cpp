@@ -9,6 +9,7 @@
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
+#include "core/target_clones.hpp"
 #include "numerics/small_polygon.hpp"
 #include "surface/catmull_rom.hpp"
 
@@ -214,7 +215,7 @@ struct CellBounds {
     std::array<Pixel, 5> middles{};  // divided: sub-corners (m, 0), (0, m), (m, m), (n, m), (m, n)
 };
 
-CellBounds cell_bounds(const NormalBoundsTree& tree, int i, int j) {
+GLINTSCOPE_OUT_OF_LINE_CLONES CellBounds cell_bounds(const NormalBoundsTree& tree, int i, int j) {
     const int n = tree.subdivision[static_cast<std::size_t>(j) * tree.grid.cols + i];
     const CellCorners c = cell_corners(tree, i, j);
     CellBounds bounds{c.p00.u, c.p00.u, c.p00.v, c.p00.v};
@@ -517,7 +518,7 @@ struct Query {
     // Σ mass / image area over the triangles of texel cell (i, j) placed at unwrapped (I, J);
     // pruned, a divided cell evaluates only the sub-corners of sub-cells whose blended corners'
     // box, widened by the cell's stray (pixels) and the reach, holds the normal.
-    double cell_density(int i, int j, long long unwrapped_i, long long unwrapped_j, int n) const {
+    GLINTSCOPE_OUT_OF_LINE_CLONES double cell_density(int i, int j, long long unwrapped_i, long long unwrapped_j, int n) const {
         const SubCells cells{weight, cell_x(unwrapped_i), cell_y(unwrapped_j), lattice.step_x / n, lattice.step_y / n};
         // Centroid weights only of triangles whose spread reaches the normal: exp is costly.
         const auto pair = [&](Pixel p00, Pixel p10, Pixel p01, Pixel p11, int a, int b) {
@@ -617,7 +618,7 @@ struct Query {
     // The cells of the field [x0, x1) × [y0, y1), which stand at unwrapped (I + ox, J + oy), tile
     // by tile and in each tile row by row; pruned, only the cells of the normal's bin whose box
     // holds it and which reach within the cutoff (the others' triangles add exactly 0).
-    double piece(int x0, int x1, int y0, int y1, long long ox, long long oy) const {
+    GLINTSCOPE_OUT_OF_LINE_CLONES double piece(int x0, int x1, int y0, int y1, long long ox, long long oy) const {
         const int side = NormalBoundsTree::kTileCells;
         const std::size_t stride = static_cast<std::size_t>(tree.tile_cols) * tree.tile_rows + 1;
         double sum = 0.0;

@@ -15,15 +15,8 @@
 #include "glintscope/core/error.hpp"
 #include "gabor.hpp"
 #include "glintscope/core/parallel.hpp"
+#include "core/target_clones.hpp"
 
-// AVX2 and portable clones of a function that must stay out of line (GCC would otherwise inline
-// the portable clone into its caller). Clang never inlines a multiversioned function and
-// refuses noinline beside target_clones.
-#if defined(__clang__)
-#define GLINTSCOPE_OUT_OF_LINE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define GLINTSCOPE_OUT_OF_LINE_CLONES [[gnu::noinline]] __attribute__((target_clones("arch=x86-64-v3", "default")))
-#endif
 
 namespace glintscope {
 namespace gabor {
