@@ -554,6 +554,10 @@ void check_normal_density_settings(int resolution, const NormalDensitySettings& 
 std::vector<double> normal_density(const BicubicInterpolant& surface, const Footprint& footprint, int resolution,
                                    const NormalDensitySettings& settings) {
     check_normal_density_settings(resolution, settings);
+    // The image's box lattice runs along x and y; a turned box is the point query's (normal_bounds_tree).
+    if (is_rotated_box(footprint))
+        throw Error("the P-NDF image takes axis-aligned boxes only, not a box turned by " +
+                    shortest_text(footprint.axis_radians) + " rad (its point query takes one)");
     const Lattice lattice = lattice_for(texel_grid(surface), footprint);
     const Weight weight = weight_for(texel_grid(surface), footprint);
     const long long stripes = stripe_count(resolution, lattice);

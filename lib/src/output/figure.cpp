@@ -420,37 +420,72 @@ void draw_vertical_scale_bar(OIIO::ImageBuf& picture, int x0, int y0, int h, dou
     text(picture, left + 8, bottom - pixels / 2 - 8, label, kWhite, OIIO::ImageBufAlgo::TextAlignX::Left, 13);
 }
 
-// The footprint in map view, and its copies across the periodic edges.
+// A footprint's outline about its centre in µm, as a closed polyline: a box's four corners, or
+// the ellipse r·(σ_c cos a, σ_minor sin a) turned by its axis (a circle when isotropic).
+std::vector<Point2> footprint_outline(const Footprint& footprint, double r) {
+    const double c = std::cos(footprint.axis_radians), s = std::sin(footprint.axis_radians);
+    const auto turned = [&](double u, double v) { return Point2{c * u - s * v, s * u + c * v}; };
+    std::vector<Point2> points;
+    if (footprint.shape == FootprintShape::box) {
+        const double hw = 0.5 * box_width_um(footprint), hh = 0.5 * box_height_um(footprint);
+        for (const auto& [u, v] : {std::pair{-hw, -hh}, std::pair{hw, -hh}, std::pair{hw, hh}, std::pair{-hw, hh}})
+            points.push_back(turned(u, v));
+        return points;
+    }
+    const double minor = is_elliptical(footprint) ? footprint.sigma_minor_um : footprint.sigma_um;
+    const int segments = 120;
+    for (int k = 0; k < segments; ++k) {
+        const double a = 2.0 * pi * k / segments;
+        points.push_back(turned(r * footprint.sigma_um * std::cos(a), r * minor * std::sin(a)));
+    }
+    return points;
+}
+
+// The closed polyline `points` (µm about the pixel (px, py), y up) two pixels wide; dashed: every other segment.
+void draw_outline(OIIO::ImageBuf& picture, int px, int py, const std::vector<Point2>& points, double sx, double sy,
+                  bool dashed, OIIO::ROI clip) {
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        if (dashed && k % 2) continue;
+        const Point2 a = points[k], b = points[(k + 1) % points.size()];
+        for (int d = 0; d < 2; ++d)
+            OIIO::ImageBufAlgo::render_line(picture, px + d + int(std::lround(a.x * sx)), py - int(std::lround(a.y * sy)),
+                                            px + d + int(std::lround(b.x * sx)), py - int(std::lround(b.y * sy)),
+                                            kFootprint, false, clip);
+    }
+}
+
+// The footprint in map view (a box, or a Gaussian's σ_c ellipse and, dashed, gabor's default
+// truncation at 3.25 σ_c), and its copies across the periodic edges.
 void draw_footprint(OIIO::ImageBuf& picture, int x0, int y0, int w, int h, const Heightfield& field,
                     const Footprint& footprint) {
-    if (is_rotated_box(footprint)) throw Error("figures draw box footprints axis-aligned, not a rotated box");
     const double sx = w / field.width_um(), sy = h / field.height_um();
+    const OIIO::ROI clip(x0, x0 + w, y0, y0 + h);
     for (int ty = -1; ty <= 1; ++ty)
         for (int tx = -1; tx <= 1; ++tx) {
             const double cx = footprint.centre_um.x + tx * field.width_um();
             const double cy = footprint.centre_um.y + ty * field.height_um();
             const int px = x0 + int(std::lround(cx * sx)), py = y0 + h - int(std::lround(cy * sy));
             if (footprint.shape == FootprintShape::box) {
-                const int hx = int(std::lround(0.5 * box_width_um(footprint) * sx));
-                const int hy = int(std::lround(0.5 * box_height_um(footprint) * sy));
-                OIIO::ImageBufAlgo::render_box(picture, px - hx, py - hy, px + hx, py + hy, kFootprint,
-                                               false, OIIO::ROI(x0, x0 + w, y0, y0 + h));
+                draw_outline(picture, px, py, footprint_outline(footprint, 1.0), sx, sy, false, clip);
                 continue;
             }
-            for (const auto& [radius, dashed] : {std::pair{1.0, false}, std::pair{3.25, true}}) {
-                const int segments = 120;
-                for (int k = 0; k < segments; ++k) {
-                    if (dashed && k % 2) continue;
-                    const double a0 = 2.0 * pi * k / segments, a1 = 2.0 * pi * (k + 1) / segments;
-                    const double r = radius * footprint.sigma_um;
-                    for (int d = 0; d < 2; ++d)  // two pixels wide
-                        OIIO::ImageBufAlgo::render_line(picture, px + d + int(r * sx * std::cos(a0)),
-                                                        py - int(r * sy * std::sin(a0)), px + d + int(r * sx * std::cos(a1)),
-                                                        py - int(r * sy * std::sin(a1)), kFootprint, false,
-                                                        OIIO::ROI(x0, x0 + w, y0, y0 + h));
-                }
-            }
+            for (const auto& [radius, dashed] : {std::pair{1.0, false}, std::pair{3.25, true}})
+                draw_outline(picture, px, py, footprint_outline(footprint, radius), sx, sy, dashed, clip);
         }
+}
+
+// The caption's words for a footprint: its size, and its shape when not an axis-aligned square or circle.
+std::string footprint_caption(const Footprint& footprint) {
+    const std::string turned =
+        footprint.axis_radians != 0.0 ? " turned " + number(footprint.axis_radians * 180.0 / pi, 3) + " deg" : "";
+    if (footprint.shape == FootprintShape::box)
+        return ", box footprint " + number(box_width_um(footprint), 4) +
+               (box_height_um(footprint) != box_width_um(footprint) ? " x " + number(box_height_um(footprint), 4) : "") +
+               " um" + turned;
+    if (is_elliptical(footprint))
+        return ", footprint sigma_c " + number(footprint.sigma_um, 4) + " x " + number(footprint.sigma_minor_um, 4) +
+               " um" + turned + " (dashed: 3.25 sigma)";
+    return ", footprint sigma_c " + number(footprint.sigma_um, 4) + " um (dashed: 3.25 sigma_c)";
 }
 
 // The annotated height map: colour-mapped heights (longer side between min_side and max_side
@@ -467,14 +502,7 @@ OIIO::ImageBuf height_panel(const Heightfield& field, ColorMap map, const Footpr
     std::string caption = std::to_string(field.cols) + " x " + std::to_string(field.rows) + " samples, texel " +
                           number(field.dx_um(), 4) +
                           (field.square_texels() ? "" : " x " + number(field.dy_um(), 4) + " (x by y)") + " um";
-    if (footprint)
-        caption += footprint->shape == FootprintShape::box
-                       ? ", box footprint " + number(box_width_um(*footprint), 4) +
-                             (box_height_um(*footprint) != box_width_um(*footprint)
-                                  ? " x " + number(box_height_um(*footprint), 4)
-                                  : "") +
-                             " um"
-                       : ", footprint sigma_c " + number(footprint->sigma_um, 4) + " um (dashed: 3.25 sigma_c)";
+    if (footprint) caption += footprint_caption(*footprint);
     OIIO::ImageBuf picture =
         blank(std::max(left + w + 2 * kMargin + kBarWidth + 80, left + text_width(caption) + kMargin), top + h + 70);
     const Colour grey{kMissingGrey, kMissingGrey, kMissingGrey};

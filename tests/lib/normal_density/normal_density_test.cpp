@@ -14,6 +14,7 @@
 #include <numbers>
 
 #include "glintscope/generate/generate.hpp"
+#include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
 
 #include "sampled_field.hpp"
@@ -160,6 +161,10 @@ TEST(NormalDensity, RectangularBoxOfAParaboloidSpreadsTheSlopesOverEachSide) {
     EXPECT_NEAR(mass, 1.0, 1e-9);
     EXPECT_NEAR(var_x / (a * a * 60.0 * 60.0 / 12.0), 1.0, 0.01);
     EXPECT_NEAR(var_y / (a * a * 30.0 * 30.0 / 12.0), 1.0, 0.01);
+    // The image's lattice runs along x and y: a turned box is refused, not drawn axis-aligned
+    // (a quarter turn would otherwise swap the two variances above).
+    box.axis_radians = 0.5 * std::numbers::pi;
+    EXPECT_THROW(normal_density(surface, box, n, {}), Error);
 }
 
 TEST(NormalDensity, SinusoidOverWholePeriodsFollowsTheArcsineLawWithSharpEdges) {

@@ -227,6 +227,46 @@ namespace {
 // A render cell (a 16:9 picture) beside a square lobe: the picture fills a rectangle of its own
 // aspect, zoomed by a whole factor, every pixel of it the picture's pixel, with the figure's white
 // background right outside it; the lobe keeps its square disk.
+// The footprint drawn on a height map has its own shape: an elliptical Gaussian's outline is
+// σ_c / σ_minor times wider than tall (a circle would be as tall as wide), and a box turned by
+// 90° is as wide as its height (W × H drawn axis-aligned would be W wide).
+TEST_F(FigurePicture, AHeightMapDrawsAnEllipseAndATurnedBoxWithTheirOwnShapes) {
+    Heightfield field = make_heightfield(400, 400, 1.0);
+    for (int r = 0; r < field.rows; ++r)
+        for (int c = 0; c < field.cols; ++c) field.heights_um[std::size_t(r) * field.cols + c] = 0.001f * float(c);
+    // The bounding box of the footprint colour's pixels: its width over its height.
+    const auto aspect = [&](const Footprint& footprint, const std::string& name) {
+        const std::string path = directory.file(name);
+        write_height_picture(field, path, ColorMap::viridis, &footprint);
+        int width = 0;
+        const std::vector<unsigned char> pixels = read(path, width);
+        const int height = int(pixels.size() / 3 / std::size_t(width));
+        int x0 = width, x1 = -1, y0 = height, y1 = -1;
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const unsigned char* p = &pixels[(std::size_t(y) * width + x) * 3];
+                if (p[0] == 255 && std::abs(p[1] - 26) <= 1 && std::abs(p[2] - 140) <= 1)
+                    x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+            }
+        EXPECT_GE(x1, x0) << name << ": no footprint drawn";
+        return double(x1 - x0 + 1) / (y1 - y0 + 1);
+    };
+    Footprint ellipse;
+    ellipse.centre_um = {200.0, 200.0};
+    ellipse.sigma_um = 40.0;
+    ellipse.sigma_minor_um = 10.0;  // the dashed outline at 3.25σ: 260 × 65 µm
+    EXPECT_NEAR(aspect(ellipse, "ellipse.png"), 4.0, 0.25);
+    ellipse.axis_radians = 0.5 * pi;  // the long axis along y
+    EXPECT_NEAR(aspect(ellipse, "upright.png"), 0.25, 0.02);
+    Footprint box;
+    box.centre_um = {200.0, 200.0};
+    box.shape = FootprintShape::box;
+    box.size_um = 200.0;
+    box.size_y_um = 60.0;
+    box.axis_radians = 0.5 * pi;
+    EXPECT_NEAR(aspect(box, "box.png"), 0.3, 0.03);
+}
+
 TEST(FigureCells, APictureIsDrawnAtItsAspectBesideASquareLobe) {
     testing::TemporaryDirectory directory;
     const LobeImage lobe = gaussian_lobe(16, 8, 8, 3.0, 3.0);

@@ -101,8 +101,9 @@ struct Figure {
 };
 
 // A heightfield in map view (+x right, +y up), colour-mapped, with a colour bar of heights in µm,
-// axes in µm, a scale bar, and, when given, a footprint drawn on it: a Gaussian as circles at σ_c
-// and at its truncation 3.25σ_c (dashed), a box as its square; wrapped across the periodic edges.
+// axes in µm, a scale bar, and, when given, a footprint drawn on it: a Gaussian as its ellipse (a
+// circle when isotropic) at σ_c and at 3.25σ_c (dashed, gabor's default truncation), a box as its
+// rectangle, turned by its axis; wrapped across the periodic edges.
 void write_height_picture(const Heightfield& field, const std::string& path, ColorMap map,
                           const Footprint* footprint = nullptr);
 
