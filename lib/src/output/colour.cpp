@@ -1,6 +1,7 @@
 #include "glintscope/output/colour.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -111,21 +112,22 @@ void check_lobe(const LobeImage& lobe) {
         throw Error("lobe image is empty or its values do not match its resolution and wavelengths");
 }
 
-// Nearest-rank percentile of the finite luminances of the pixels `counted` accepts.
-double luminance_percentile(const std::vector<float>& xyz, const std::function<bool(std::size_t)>& counted,
-                            double percentile, double& maximum) {
+// Nearest-rank percentile of `values` (not empty); reorders them.
+double nearest_rank(std::vector<float>& values, double percentile) {
+    const double rank = std::ceil(percentile / 100.0 * double(values.size()));
+    const std::size_t index = std::size_t(std::clamp(rank, 1.0, double(values.size()))) - 1;
+    std::nth_element(values.begin(), values.begin() + index, values.end());
+    return values[index];
+}
+
+// The finite luminances of the pixels `counted` accepts.
+std::vector<float> counted_luminances(const std::vector<float>& xyz, const std::function<bool(std::size_t)>& counted) {
     std::vector<float> luminance;
     for (std::size_t pixel = 0; pixel < xyz.size() / 3; ++pixel) {
         const float y = xyz[pixel * 3 + 1];
         if (counted(pixel) && std::isfinite(y)) luminance.push_back(y);
     }
-    maximum = 0.0;
-    if (luminance.empty()) return 0.0;
-    maximum = *std::max_element(luminance.begin(), luminance.end());
-    const double rank = std::ceil(percentile / 100.0 * double(luminance.size()));
-    const std::size_t index = std::size_t(std::clamp(rank, 1.0, double(luminance.size()))) - 1;
-    std::nth_element(luminance.begin(), luminance.begin() + index, luminance.end());
-    return luminance[index];
+    return luminance;
 }
 
 // The exposure for an XYZ image `xyz` over the pixels `counted` accepts, named `where` (see display_exposure).
@@ -146,16 +148,22 @@ DisplayExposure exposure_for(const std::vector<float>& xyz, const std::function<
             throw Error("auto exposure percentile must be in (0, 100], got " + shortest_text(settings.auto_percentile));
         // A log scale exists to show the whole range, so there the maximum is the top.
         const double rank = settings.log_scale ? 100.0 : settings.auto_percentile;
-        double maximum = 0.0;
-        const double level = luminance_percentile(xyz, counted, rank, maximum);
+        std::vector<float> luminance = counted_luminances(xyz, counted);
+        const double level = luminance.empty() ? 0.0 : nearest_rank(luminance, rank);
+        // Where fewer pixels than the percentile leaves above it are lit (a thin highlight in a
+        // dark render), the percentile is 0: the same percentile of the lit pixels is the top
+        // (the maximum, a single caustic spike, left the rest of the highlight black).
+        std::vector<float> lit;
+        if (level <= 0.0)
+            std::copy_if(luminance.begin(), luminance.end(), std::back_inserter(lit), [](float y) { return y > 0.0f; });
         const std::string percentile = settings.log_scale ? "maximum luminance " + where
                                                           : shortest_text(rank) + "th percentile of luminance " + where;
         if (level > 0.0) {
             exposure.ev = -std::log2(level);
             exposure.rule = "auto: " + percentile + " maps to 1";
-        } else if (maximum > 0.0) {
-            exposure.ev = -std::log2(maximum);
-            exposure.rule = "auto: the " + percentile + " is 0, so the maximum maps to 1";
+        } else if (!lit.empty()) {
+            exposure.ev = -std::log2(nearest_rank(lit, rank));
+            exposure.rule = "auto: the " + percentile + " is 0, so that percentile of the lit pixels maps to 1";
         } else {
             exposure.rule = "auto: the lobe is black, EV 0";
         }

@@ -122,6 +122,21 @@ TEST_F(Colour, AutoExposureMapsThePercentileToWhite) {
     EXPECT_EQ(display.pixels[0], 0);  // outside the disk
 }
 
+// A thin highlight in a dark render: 400 of 100 000 pixels lit (0.4%), so the 99.5th percentile
+// of the image is 0. The same percentile of the lit pixels maps to white (398 of 1 … 399 and
+// one caustic spike of 10⁶), not the spike, which would leave the highlight black.
+TEST_F(Colour, AutoExposureOfASparseImageUsesThePercentileOfItsLitPixels) {
+    std::vector<float> xyz(3 * 100000, 0.0f);
+    for (int k = 1; k < 400; ++k) xyz[3 * std::size_t(k) * 200 + 1] = float(k);
+    xyz[3 * 7 + 1] = 1e6f;
+    const DisplayExposure exposure = xyz_exposure(xyz, ColourSettings{});
+    EXPECT_DOUBLE_EQ(exposure.white_level, 398.0);
+    EXPECT_NE(exposure.rule.find("percentile of the lit pixels"), std::string::npos) << exposure.rule;
+    // An image lit over more than 0.5% keeps the percentile of all its pixels.
+    for (int k = 400; k < 1000; ++k) xyz[3 * std::size_t(k) * 100 + 4] = 1.0f;  // Y of pixel 100k + 1
+    EXPECT_DOUBLE_EQ(xyz_exposure(xyz, ColourSettings{}).white_level, 1.0);
+}
+
 TEST_F(Colour, GivenExposureScalesByPowerOfTwo) {
     ColourSettings settings;
     settings.exposure_ev = 1.0;
