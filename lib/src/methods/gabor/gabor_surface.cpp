@@ -156,13 +156,14 @@ struct DifferenceBounds {
 using Float8 = float __attribute__((vector_size(32)));
 using Int8 = int __attribute__((vector_size(32)));
 
-// Bit k set where lane k of a vector compare is true.
+// Bit k set where lane k of a vector compare is true (all bits set or none): the sign bits of
+// each half through SSE's movmskps.
 [[gnu::always_inline]] inline unsigned lane_bits(const Int8& inside) {
-    Int8 bits = inside & Int8{1, 2, 4, 8, 16, 32, 64, 128};
-    bits |= __builtin_shufflevector(bits, bits, 4, 5, 6, 7, 0, 1, 2, 3);
-    bits |= __builtin_shufflevector(bits, bits, 2, 3, 0, 1, 6, 7, 4, 5);
-    bits |= __builtin_shufflevector(bits, bits, 1, 0, 3, 2, 5, 4, 7, 6);
-    return static_cast<unsigned>(bits[0]);
+    using Int4 = int __attribute__((vector_size(16)));
+    const Int4 low = __builtin_shufflevector(inside, inside, 0, 1, 2, 3);
+    const Int4 high = __builtin_shufflevector(inside, inside, 4, 5, 6, 7);
+    return static_cast<unsigned>(_mm_movemask_ps(std::bit_cast<__m128>(low))) |
+           static_cast<unsigned>(_mm_movemask_ps(std::bit_cast<__m128>(high))) << 4;
 }
 
 [[gnu::always_inline]] inline Float8 load8(const float* p) {
