@@ -433,8 +433,9 @@ template <typename Visit>
     while (leaf < row.leaf_count && (row.leaf_columns[leaf] + 1LL) * kLeafKernels <= first) ++leaf;
     for (; leaf < row.leaf_count && row.leaf_columns[leaf] * static_cast<long long>(kLeafKernels) <= last; ++leaf) {
         const int c0 = row.leaf_columns[leaf] * kLeafKernels;
-        const long long skip_left = std::clamp<long long>(first - c0, 0, kLeafKernels);
-        const long long skip_right = std::clamp<long long>(c0 + kLeafKernels - 1 - last, 0, kLeafKernels);
+        // The leaf meets the chord, so fewer than kLeafKernels columns are skipped on either side.
+        const int skip_left = static_cast<int>(std::max<long long>(first - c0, 0));
+        const int skip_right = static_cast<int>(std::max<long long>(c0 + kLeafKernels - 1 - last, 0));
         const unsigned chord = (0xFFu << skip_left) & (0xFFu >> skip_right);
         visit(row, leaf, c0, chord,
               sample_lanes(row.below, row.row, row.above, c0, std::min(kLeafKernels, row.cols - c0), row.cols,
