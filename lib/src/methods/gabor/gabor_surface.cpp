@@ -397,6 +397,12 @@ struct Aim {
 // At most this many aims share one walk: their sets are bits of a 64-bit mask.
 constexpr std::size_t kMaxAims = 64;
 
+// A leaf's first column and the bits of its kernels that pass a row test (bit k: column c0 + k).
+struct PassingLeaf {
+    int c0;
+    unsigned bits;
+};
+
 // K = 1: one y-up kernel row's samples (rows j − 1, j, j + 1, wrapped), its surviving leaves
 // leaf_columns[0 … leaf_count) (ascending, for any aim) around the window's chord [first, last],
 // and what its kernels share.
@@ -419,6 +425,7 @@ struct SampledRow {
     double weight_y;          // w(0, p_y) l²
     const double* weight_x;   // w(p_x, 0) of columns first_column, first_column + 1, …, padded by kLeafKernels
     long long first_column;
+    PassingLeaf* passing_leaves;  // room for leaf_count (one aim's first pass)
 };
 
 // For each leaf i of `given` that the chord meets: visit(row, i, c0, chord, lanes) with a copy
@@ -570,17 +577,30 @@ struct KernelLanes {
 }
 
 // K = 1, one aim: appends the row's kernels that pass `passes` (lanes → bits) to `kernels`;
-// returns how many.
+// returns how many. First every leaf is tested and those with passing kernels listed without a
+// branch on the outcome (a branch at the end of the test's long chain of arithmetic would be
+// mispredicted for about a quarter of the leaves); then the listed leaves' kernels are written
+// from their samples, loaded again.
 template <typename Passes>
 [[gnu::always_inline]] inline std::size_t append_passing(const SampledRow& row, bool chirped, const Passes& passes,
                                                          gabor::KernelArrays& kernels) {
-    const KernelSlots slots = reserve_slots(kernels, row.leaf_count * kLeafKernels);
-    std::size_t count = 0;
-    for_each_leaf_in_chord(row, chirped, [&](const SampledRow& r, std::size_t, int c0, unsigned chord,
+    PassingLeaf* const passing = row.passing_leaves;
+    std::size_t listed = 0;
+    for_each_leaf_in_chord(row, chirped, [&](const SampledRow&, std::size_t, int c0, unsigned chord,
                                              const SampleLanes& lanes) {
         const unsigned bits = chord & passes(lanes);
-        if (bits != 0) count += write_lanes(r, c0, bits, lanes.samples, chirped, slots, count);
+        passing[listed] = {c0, bits};
+        listed += bits != 0;
     });
+    const KernelSlots slots = reserve_slots(kernels, row.leaf_count * kLeafKernels);
+    const SampledRow r = row;  // a copy, which the kernels' stores cannot alias
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < listed; ++k) {
+        const int c0 = passing[k].c0;
+        const SampleStencil samples =
+            sample_stencil(r.below, r.row, r.above, c0, std::min(kLeafKernels, r.cols - c0), r.cols, chirped);
+        count += write_lanes(r, c0, passing[k].bits, samples, chirped, slots, count);
+    }
     kernels.extend(count);
     return count;
 }
@@ -901,6 +921,7 @@ struct CollectScratch {
     std::vector<NodeAims<Mask>> children;
     std::vector<Mask> leaf_map;              // over the footprint's leaves: the aims it survives for
     std::vector<int> leaf_columns;           // the surviving leaves of one leaf row (for any aim)
+    std::vector<PassingLeaf> passing_leaves;  // parallel to leaf_columns: K = 1, one aim's passing leaves
     std::vector<Mask> leaf_aims;             // parallel to leaf_columns
     std::vector<SurfacePoint> block;
     SeparableWeights weights;
@@ -1099,7 +1120,8 @@ struct GaborSurface::Collector {
                              reference_height,
                              scratch.weights.along_y(j) * weight_scale,
                              scratch.weights.columns(),
-                             scratch.weights.first_column()};
+                             scratch.weights.first_column(),
+                             scratch.passing_leaves.data()};
         counts.kernels_evaluated += aims.append_survivors(row, scratch.leaf_aims.data());
     }
 
@@ -1164,6 +1186,7 @@ struct GaborSurface::Collector {
                 last[j - j0] = i1 - 1;
             }
         if (sampled) {
+            scratch.passing_leaves.resize(leaf_columns.size());
             for (int j = j0; j < j1; ++j)
                 if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0]);
             return;
