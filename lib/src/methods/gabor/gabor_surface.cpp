@@ -1099,7 +1099,7 @@ struct GaborSurface::Collector {
     // last] on kernel row j, tested on their samples' central differences (computed once for all
     // aims); each leaf's survivors go straight into the aim's kernel arrays, eight lanes computed
     // at once and the kept ones moved together, so that no branch depends on which kernels
-    // survive (write_lanes).
+    // survive (write_lanes; with one aim after all the row's leaves are tested, append_passing).
     void add_sampled_row(double cx, double cy, int j, long long first, long long last) {
         const int rows = surface.hierarchy_->kernels_y;
         const SampledRow row{surface.surface_->sample_row(j == 0 ? rows - 1 : j - 1),
