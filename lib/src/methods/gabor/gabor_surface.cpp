@@ -95,20 +95,6 @@ void include(gabor::SlopeBox& box, const gabor::SlopeBox& other) {
     box.y_max = std::max(box.y_max, other.y_max);
 }
 
-// For each byte, the positions of its set bits, lowest first (the rest 0), and their count: a
-// byte of survivors is unpacked with one table lookup, without a branch per bit.
-struct SetBits {
-    std::array<std::uint8_t, 8> positions;
-    int count;
-};
-constexpr std::array<SetBits, 256> kSetBits = [] {
-    std::array<SetBits, 256> table{};
-    for (int value = 0; value < 256; ++value)
-        for (int bit = 0; bit < 8; ++bit)
-            if (value >> bit & 1) table[value].positions[table[value].count++] = static_cast<std::uint8_t>(bit);
-    return table;
-}();
-
 // 8-bit codes of slopes within a leaf's range [lo, hi]: code(h) = ⌊(h − lo)·255/(hi − lo)⌋. A
 // slope interval [a, b] maps to the codes [⌊·⌋ − 1, ⌈·⌉ + 1], so rounding in either mapping
 // never drops a code inside it. Ranges under 1e-6 are coded as 1e-6 wide, which keeps that
@@ -163,13 +149,14 @@ struct DifferenceBounds {
 using Float8 = float __attribute__((vector_size(32)));
 using Int8 = int __attribute__((vector_size(32)));
 
-// Bit k set where lane k of a vector compare is true.
+// Bit k set where lane k of a vector compare is true (all bits set or none): the sign bits of
+// each half through SSE's movmskps.
 [[gnu::always_inline]] inline unsigned lane_bits(const Int8& inside) {
-    Int8 bits = inside & Int8{1, 2, 4, 8, 16, 32, 64, 128};
-    bits |= __builtin_shufflevector(bits, bits, 4, 5, 6, 7, 0, 1, 2, 3);
-    bits |= __builtin_shufflevector(bits, bits, 2, 3, 0, 1, 6, 7, 4, 5);
-    bits |= __builtin_shufflevector(bits, bits, 1, 0, 3, 2, 5, 4, 7, 6);
-    return static_cast<unsigned>(bits[0]);
+    using Int4 = int __attribute__((vector_size(16)));
+    const Int4 low = __builtin_shufflevector(inside, inside, 0, 1, 2, 3);
+    const Int4 high = __builtin_shufflevector(inside, inside, 4, 5, 6, 7);
+    return static_cast<unsigned>(_mm_movemask_ps(std::bit_cast<__m128>(low))) |
+           static_cast<unsigned>(_mm_movemask_ps(std::bit_cast<__m128>(high))) << 4;
 }
 
 [[gnu::always_inline]] inline Float8 load8(const float* p) {
@@ -206,11 +193,19 @@ struct ChirpedDifferenceTest {
     return root;
 }
 
-// One y-up row's samples c0 … c0 + 7 seen by the tests of every aim: their central differences
-// Δx = H(c + 1) − H(c − 1), Δy = H(j + 1) − H(j − 1) and, second order, the bound ρ on their
-// second differences' spectral radius (with its rounding slack), computed once however many
-// aims test them. Lanes past the row's end hold NaN, which no test passes.
+// The samples of eight kernels, columns c0 … c0 + 7 of a y-up row: H at the kernel and at its
+// neighbours in rows j − 1 (down), j and j + 1 (up), columns wrapped periodically. The corners
+// only at second order.
+struct SampleStencil {
+    Float8 mid, left, right, down, up, down_left, down_right, up_left, up_right;
+};
+
+// One row's eight kernels as every aim tests them: their samples, central differences
+// Δx = H(c + 1) − H(c − 1), Δy = H(j + 1) − H(j − 1) and, second order, the bound ρ on their second
+// differences' spectral radius (with its rounding slack), computed once however many aims test
+// them. Lanes past the row's end hold NaN, which no test passes.
 struct SampleLanes {
+    SampleStencil samples;
     Float8 dx, dy, rho;
 };
 
@@ -229,36 +224,59 @@ template <typename T>
            curvature_slack;
 }
 
-// The lanes of samples c0 … c0 + count − 1 (count ≤ 8); columns wrap periodically over `cols`.
-// Eight at once (AVX, or two SSE halves) away from the seam. ρ only when `chirped`.
-[[gnu::always_inline]] inline SampleLanes sample_lanes(const float* below, const float* row, const float* above,
-                                                       int c0, int count, int cols, bool chirped,
-                                                       float curvature_slack) {
-    SampleLanes lanes;
+// The stencil of samples c0 … c0 + count − 1 (count ≤ 8); columns wrap periodically over `cols`.
+// Eight at once (AVX, or two SSE halves) away from the seam. Corners only when `chirped`.
+[[gnu::always_inline]] inline SampleStencil sample_stencil(const float* below, const float* row, const float* above,
+                                                           int c0, int count, int cols, bool chirped) {
+    SampleStencil s;
     if (c0 >= 1 && c0 + 9 <= cols && count == 8) {
-        const Float8 left = load8(row + c0 - 1), right = load8(row + c0 + 1);
-        const Float8 down = load8(below + c0), up = load8(above + c0);
-        lanes.dx = right - left;
-        lanes.dy = up - down;
-        if (chirped)
-            lanes.rho = curvature_radius(left, load8(row + c0), right, down, up, load8(below + c0 - 1),
-                                         load8(below + c0 + 1), load8(above + c0 - 1), load8(above + c0 + 1),
-                                         curvature_slack);
-        return lanes;
+        s.mid = load8(row + c0);
+        s.left = load8(row + c0 - 1);
+        s.right = load8(row + c0 + 1);
+        s.down = load8(below + c0);
+        s.up = load8(above + c0);
+        if (chirped) {
+            s.down_left = load8(below + c0 - 1);
+            s.down_right = load8(below + c0 + 1);
+            s.up_left = load8(above + c0 - 1);
+            s.up_right = load8(above + c0 + 1);
+        }
+        return s;
     }
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (int k = 0; k < 8; ++k) {
-        lanes.dx[k] = lanes.dy[k] = lanes.rho[k] = nan;
+        s.mid[k] = s.left[k] = s.right[k] = s.down[k] = s.up[k] = nan;
+        s.down_left[k] = s.down_right[k] = s.up_left[k] = s.up_right[k] = nan;
         if (k >= count) continue;
         const int c = c0 + k;
         const int left = c == 0 ? cols - 1 : c - 1;
         const int right = c + 1 == cols ? 0 : c + 1;
-        lanes.dx[k] = row[right] - row[left];
-        lanes.dy[k] = above[c] - below[c];
-        if (chirped)
-            lanes.rho[k] = curvature_radius(row[left], row[c], row[right], below[c], above[c], below[left], below[right],
-                                            above[left], above[right], curvature_slack);
+        s.mid[k] = row[c];
+        s.left[k] = row[left];
+        s.right[k] = row[right];
+        s.down[k] = below[c];
+        s.up[k] = above[c];
+        if (!chirped) continue;
+        s.down_left[k] = below[left];
+        s.down_right[k] = below[right];
+        s.up_left[k] = above[left];
+        s.up_right[k] = above[right];
     }
+    return s;
+}
+
+// The lanes of samples c0 … c0 + count − 1 (count ≤ 8). ρ only when `chirped`.
+[[gnu::always_inline]] inline SampleLanes sample_lanes(const float* below, const float* row, const float* above,
+                                                       int c0, int count, int cols, bool chirped,
+                                                       float curvature_slack) {
+    SampleLanes lanes;
+    lanes.samples = sample_stencil(below, row, above, c0, count, cols, chirped);
+    const SampleStencil& s = lanes.samples;
+    lanes.dx = s.right - s.left;
+    lanes.dy = s.up - s.down;
+    if (chirped)
+        lanes.rho = curvature_radius(s.left, s.mid, s.right, s.down, s.up, s.down_left, s.down_right, s.up_left,
+                                     s.up_right, curvature_slack);
     return lanes;
 }
 
@@ -372,9 +390,16 @@ struct Aim {
 // At most this many aims share one walk: their sets are bits of a 64-bit mask.
 constexpr std::size_t kMaxAims = 64;
 
-// K = 1: one y-up kernel row's samples (rows j − 1, j, j + 1, wrapped) and its surviving leaves
-// leaf_columns[0 … leaf_count) (ascending, for any aim) around the window's chord [first, last].
-struct RowLeaves {
+// A leaf's first column and the bits of its kernels that pass a row test (bit k: column c0 + k).
+struct PassingLeaf {
+    int c0;
+    unsigned bits;
+};
+
+// K = 1: one y-up kernel row's samples (rows j − 1, j, j + 1, wrapped), its surviving leaves
+// leaf_columns[0 … leaf_count) (ascending, for any aim) around the window's chord [first, last],
+// and what its kernels share.
+struct SampledRow {
     const float* below;
     const float* row;
     const float* above;
@@ -382,88 +407,236 @@ struct RowLeaves {
     const int* leaf_columns;
     std::size_t leaf_count;
     long long first, last;
-    bool chirped;           // second order (several aims' lanes: ρ too)
-    float curvature_slack;  // ChirpedDifferenceTest
+    bool chirped;             // second order: ρ in the lanes (several aims) and H'' in the kernels
+    float curvature_slack;    // ChirpedDifferenceTest
+    double texel_um;
+    double half_inverse_texel;  // ½/dx
+    double curvature_scale;     // 1/dx²
+    double centre_x;          // x_c in this tile copy
+    double py;                // kernel centre y − x_c,y
+    double reference_height;  // H(x_c)
+    double weight_y;          // w(0, p_y) l²
+    const double* weight_x;   // w(p_x, 0) of columns first_column, first_column + 1, …, padded by kLeafKernels
+    long long first_column;
+    PassingLeaf* passing_leaves;  // room for leaf_count (one aim's first pass)
 };
 
-// For each leaf i of `leaves` that the chord meets: visit(i, c0, chord, lanes) with its first
-// column c0, the chord's columns as bits (bit k: column c0 + k) and its samples' lanes (ρ only
-// when `chirped`). On a copy of `given`: the columns that visit() stores may alias it, which
-// would reload every field after each leaf.
+// For each leaf i of `given` that the chord meets: visit(row, i, c0, chord, lanes) with a copy
+// of the row, the leaf's first column c0, the chord's columns as bits (bit k: column c0 + k) and
+// its samples' lanes (ρ only when `chirped`). visit() reads the row from the copy: the kernels
+// it stores may alias `given`, which would reload every field after each leaf.
 template <typename Visit>
-[[gnu::always_inline]] inline void for_each_leaf_in_chord(const RowLeaves& given, bool chirped, const Visit& visit) {
-    const RowLeaves leaves = given;
-    const long long first = leaves.first, last = leaves.last;
+[[gnu::always_inline]] inline void for_each_leaf_in_chord(const SampledRow& given, bool chirped, const Visit& visit) {
+    const SampledRow row = given;
+    const long long first = row.first, last = row.last;
     std::size_t leaf = 0;
-    while (leaf < leaves.leaf_count && (leaves.leaf_columns[leaf] + 1LL) * kLeafKernels <= first) ++leaf;
-    for (; leaf < leaves.leaf_count && leaves.leaf_columns[leaf] * static_cast<long long>(kLeafKernels) <= last;
-         ++leaf) {
-        const int c0 = leaves.leaf_columns[leaf] * kLeafKernels;
-        const long long skip_left = std::clamp<long long>(first - c0, 0, kLeafKernels);
-        const long long skip_right = std::clamp<long long>(c0 + kLeafKernels - 1 - last, 0, kLeafKernels);
+    while (leaf < row.leaf_count && (row.leaf_columns[leaf] + 1LL) * kLeafKernels <= first) ++leaf;
+    for (; leaf < row.leaf_count && row.leaf_columns[leaf] * static_cast<long long>(kLeafKernels) <= last; ++leaf) {
+        const int c0 = row.leaf_columns[leaf] * kLeafKernels;
+        // The leaf meets the chord, so fewer than kLeafKernels columns are skipped on either side.
+        const int skip_left = static_cast<int>(std::max<long long>(first - c0, 0));
+        const int skip_right = static_cast<int>(std::max<long long>(c0 + kLeafKernels - 1 - last, 0));
         const unsigned chord = (0xFFu << skip_left) & (0xFFu >> skip_right);
-        visit(leaf, c0, chord,
-              sample_lanes(leaves.below, leaves.row, leaves.above, c0, std::min(kLeafKernels, leaves.cols - c0),
-                           leaves.cols, chirped, leaves.curvature_slack));
+        visit(row, leaf, c0, chord,
+              sample_lanes(row.below, row.row, row.above, c0, std::min(kLeafKernels, row.cols - c0), row.cols,
+                           chirped, row.curvature_slack));
     }
 }
 
-// out[k] = c0 + the position of the k-th set bit of `bits`, for all 8 slots at once (past the
-// set bits, garbage); returns how many bits are set. No branch depends on which are set.
-[[gnu::always_inline]] inline int list_bits(unsigned bits, int c0, int* out) {
-    const SetBits& set = kSetBits[bits];
-    const __m128i positions =
-        _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(set.positions.data())), _mm_setzero_si128());
-    const __m128i base = _mm_set1_epi32(c0);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out),
-                     _mm_add_epi32(_mm_unpacklo_epi16(positions, _mm_setzero_si128()), base));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 4),
-                     _mm_add_epi32(_mm_unpackhi_epi16(positions, _mm_setzero_si128()), base));
-    return set.count;
+using Double4 = double __attribute__((vector_size(32)));
+
+// For each 4-bit mask, the 32-bit lanes that move the double lanes whose bits are set to the
+// front, in order (lane p is the pair 2p, 2p + 1; the slots after them repeat lane 0).
+constexpr std::array<std::array<int, 8>, 16> kSetLanesFirst = [] {
+    std::array<std::array<int, 8>, 16> table{};
+    for (int bits = 0; bits < 16; ++bits) {
+        int slot = 0;
+        for (int lane = 0; lane < 4; ++lane)
+            if (bits >> lane & 1) {
+                table[bits][2 * slot] = 2 * lane;
+                table[bits][2 * slot + 1] = 2 * lane + 1;
+                ++slot;
+            }
+    }
+    return table;
+}();
+
+// Stores the lanes of v whose bits (4) are set to out[0 … popcount(bits)), in lane order, with one
+// permutation (AVX2's vpermd) and no branch on which are set; writes out[0 … 4).
+[[gnu::always_inline]] inline void store_set_lanes(const Double4& v, unsigned bits, double* __restrict out) {
+    using UnalignedDouble4 = double __attribute__((vector_size(32), aligned(8)));
+    Int8 order;
+    std::memcpy(&order, kSetLanesFirst[bits].data(), sizeof order);
+    const Int8 lanes = std::bit_cast<Int8>(v);
+#if defined(__clang__)  // no variable __builtin_shuffle
+    Int8 moved;
+    for (int k = 0; k < 8; ++k) moved[k] = lanes[order[k]];
+#else
+    const Int8 moved = __builtin_shuffle(lanes, order);
+#endif
+    *reinterpret_cast<UnalignedDouble4*>(out) = std::bit_cast<UnalignedDouble4>(moved);
 }
 
-// K = 1, one aim: the columns of the row's kernels that pass `passes` (lanes → bits), listed in
-// `columns` (8 slots written per leaf), and their count.
+// The next free slots of a kernel arrays' arrays (room reserved), where a row's kernels go.
+struct KernelSlots {
+    double* __restrict px;
+    double* __restrict py;
+    double* __restrict height;
+    double* __restrict slope_x;
+    double* __restrict slope_y;
+    double* __restrict weight;
+    double* __restrict curvature_xx;
+    double* __restrict curvature_xy;
+    double* __restrict curvature_yy;
+};
+
+// Reserves room for `count` more kernels (and the kLeafKernels slots a store may write past
+// them) and returns the slots after the last.
+KernelSlots reserve_slots(gabor::KernelArrays& kernels, std::size_t count) {
+    kernels.reserve_more(count + kLeafKernels);
+    const std::size_t at = kernels.size();
+    return {kernels.px.data() + at,           kernels.py.data() + at,           kernels.height.data() + at,
+            kernels.slope_x.data() + at,      kernels.slope_y.data() + at,      kernels.weight.data() + at,
+            kernels.curvature_xx.data() + at, kernels.curvature_xy.data() + at, kernels.curvature_yy.data() + at};
+}
+
+using Double8 = double __attribute__((vector_size(64)));
+
+// Lanes 0–3 (half 0) or 4–7 (half 1) of a Float8, in double.
+[[gnu::always_inline]] inline Double4 half_in_double(const Float8& v, int half) {
+    const Double8 all = __builtin_convertvector(v, Double8);
+    return half == 0 ? __builtin_shufflevector(all, all, 0, 1, 2, 3) : __builtin_shufflevector(all, all, 4, 5, 6, 7);
+}
+
+// Four kernels of a row (the lanes of one half of a SampleStencil) as the sum reads them (p_y is the row's).
+struct KernelLanes {
+    Double4 px, height, slope_x, slope_y, weight, curvature_xx, curvature_xy, curvature_yy;
+};
+
+// The kernels at columns c0 + 4·half … + 3: p relative to x_c, H − H(x_c), H' as sample_point()'s
+// (−½H(c − 1) + ½H(c + 1))/dx, computed as (H(c + 1) − H(c − 1))·(½/dx), which rounds identically
+// (halving is exact), w_k l², and at second order H'' with sample_curvature()'s arithmetic.
+[[gnu::always_inline]] inline KernelLanes kernel_lanes(const SampledRow& r, int c0, int half, const SampleStencil& s,
+                                                       bool chirped) {
+    const int first = c0 + 4 * half;
+    const auto in_double = [half](const Float8& v) { return half_in_double(v, half); };
+    KernelLanes k;
+    k.px = (double(first) + Double4{0.5, 1.5, 2.5, 3.5}) * r.texel_um - r.centre_x;
+    const Double4 mid = in_double(s.mid);
+    const Double4 left = in_double(s.left);
+    const Double4 right = in_double(s.right);
+    const Double4 down = in_double(s.down);
+    const Double4 up = in_double(s.up);
+    k.height = mid - r.reference_height;
+    k.slope_x = (right - left) * r.half_inverse_texel;
+    k.slope_y = (up - down) * r.half_inverse_texel;
+    std::memcpy(&k.weight, r.weight_x + (first - r.first_column), sizeof k.weight);
+    k.weight *= r.weight_y;
+    if (!chirped) return k;
+    k.curvature_xx = (left - 2.0 * mid + right) * r.curvature_scale;
+    k.curvature_yy = (down - 2.0 * mid + up) * r.curvature_scale;
+    k.curvature_xy = 0.25 *
+                     (in_double(s.up_right) - in_double(s.up_left) - in_double(s.down_right) +
+                      in_double(s.down_left)) *
+                     r.curvature_scale;
+    return k;
+}
+
+// Writes the kernels of the lanes whose bits are set (bit k: column c0 + k) to slots[at …], in
+// column order, and returns how many; writes up to kLeafKernels slots. Four lanes are computed at
+// a time and the kept ones moved to the front of each array's store, so no branch depends on
+// which pass.
+[[gnu::always_inline]] inline std::size_t write_lanes(const SampledRow& r, int c0, unsigned bits,
+                                                      const SampleStencil& s, bool chirped, const KernelSlots& slots,
+                                                      std::size_t at) {
+    const std::size_t first = at;
+    for (int half = 0; half < 2; ++half) {
+        const unsigned set = bits >> (4 * half) & 0xFu;
+        const KernelLanes k = kernel_lanes(r, c0, half, s, chirped);
+        store_set_lanes(k.px, set, slots.px + at);
+        store_set_lanes(Double4{} + r.py, set, slots.py + at);
+        store_set_lanes(k.height, set, slots.height + at);
+        store_set_lanes(k.slope_x, set, slots.slope_x + at);
+        store_set_lanes(k.slope_y, set, slots.slope_y + at);
+        store_set_lanes(k.weight, set, slots.weight + at);
+        if (chirped) {
+            store_set_lanes(k.curvature_xx, set, slots.curvature_xx + at);
+            store_set_lanes(k.curvature_xy, set, slots.curvature_xy + at);
+            store_set_lanes(k.curvature_yy, set, slots.curvature_yy + at);
+        }
+        at += static_cast<std::size_t>(std::popcount(set));
+    }
+    return at - first;
+}
+
+// K = 1, one aim: appends the row's kernels that pass `passes` (lanes → bits) to `kernels`;
+// returns how many. First every leaf is tested and those with passing kernels listed without a
+// branch on the outcome (a branch at the end of the test's long chain of arithmetic would be
+// mispredicted for about a quarter of the leaves); then the listed leaves' kernels are written
+// from their samples, loaded again.
 template <typename Passes>
-[[gnu::always_inline]] inline std::size_t list_passing(const RowLeaves& leaves, bool chirped, const Passes& passes,
-                                                       int* columns) {
-    std::size_t count = 0;
-    for_each_leaf_in_chord(leaves, chirped, [&](std::size_t, int c0, unsigned chord, const SampleLanes& lanes) {
-        count += list_bits(chord & passes(lanes), c0, columns + count);
+[[gnu::always_inline]] inline std::size_t append_passing(const SampledRow& row, bool chirped, const Passes& passes,
+                                                         gabor::KernelArrays& kernels) {
+    PassingLeaf* const passing = row.passing_leaves;
+    std::size_t listed = 0;
+    for_each_leaf_in_chord(row, chirped, [&](const SampledRow&, std::size_t, int c0, unsigned chord,
+                                             const SampleLanes& lanes) {
+        const unsigned bits = chord & passes(lanes);
+        passing[listed] = {c0, bits};
+        listed += bits != 0;
     });
+    const KernelSlots slots = reserve_slots(kernels, row.leaf_count * kLeafKernels);
+    const SampledRow r = row;  // a copy, which the kernels' stores cannot alias
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < listed; ++k) {
+        const int c0 = passing[k].c0;
+        const SampleStencil samples =
+            sample_stencil(r.below, r.row, r.above, c0, std::min(kLeafKernels, r.cols - c0), r.cols, chirped);
+        count += write_lanes(r, c0, passing[k].bits, samples, chirped, slots, count);
+    }
+    kernels.extend(count);
     return count;
 }
 
-// list_passing compiled for each kind of test alone: difference bounds, and (second order) each
-// kernel's own chirped reach (leaves.chirped unused). The tests are taken by value, so that the
-// stores to columns cannot alias them.
+// append_passing compiled for each kind of test alone: difference bounds, and (second order) each
+// kernel's own chirped reach. The tests are taken by value, so that the kernels' stores cannot
+// alias them.
 GLINTSCOPE_OUT_OF_LINE_CLONES
-std::size_t list_row_survivors(const RowLeaves& leaves, const DifferenceBounds bounds, int* columns) {
-    return list_passing(leaves, false, [&](const SampleLanes& lanes) { return differences_within(lanes, bounds); },
-                        columns);
+std::size_t append_row_survivors(const SampledRow& row, const DifferenceBounds bounds, gabor::KernelArrays& kernels) {
+    const auto passes = [&](const SampleLanes& lanes) { return differences_within(lanes, bounds); };
+    return row.chirped ? append_passing(row, true, passes, kernels) : append_passing(row, false, passes, kernels);
 }
 
 GLINTSCOPE_OUT_OF_LINE_CLONES
-std::size_t list_chirped_row_survivors(const RowLeaves& leaves, const ChirpedDifferenceTest test, int* columns) {
-    return list_passing(leaves, true, [&](const SampleLanes& lanes) { return chirped_within(lanes, test); }, columns);
+std::size_t append_chirped_row_survivors(const SampledRow& row, const ChirpedDifferenceTest test,
+                                         gabor::KernelArrays& kernels) {
+    return append_passing(row, true, [&](const SampleLanes& lanes) { return chirped_within(lanes, test); }, kernels);
 }
 
 // K = 1, several aims at once: each leaf's lanes once, then for each aim a of leaf_aims[leaf]
-// the kernels that pass aims[a].row_test, their columns appended at columns + a·stride and
-// counted in counts[a] (8 slots written per leaf and aim).
+// the kernels that pass aims[a].row_test, appended to its kernels; returns how many in all.
 GLINTSCOPE_OUT_OF_LINE_CLONES
-void list_row_survivors(const RowLeaves& leaves, const std::uint64_t* leaf_aims, const Aim* aims, int* columns,
-                        std::size_t stride, std::size_t* counts) {
-    const auto test_leaf = [&](std::size_t leaf, int c0, unsigned chord, const SampleLanes& lanes) {
+std::size_t append_row_survivors(const SampledRow& row, const std::uint64_t* leaf_aims, const Aim* aims,
+                                 std::size_t aim_count) {
+    std::array<KernelSlots, kMaxAims> slots;
+    std::array<std::size_t, kMaxAims> counts{};
+    for (std::size_t a = 0; a < aim_count; ++a) slots[a] = reserve_slots(*aims[a].kernels, row.leaf_count * kLeafKernels);
+    const auto test_leaf = [&](const SampledRow& r, std::size_t leaf, int c0, unsigned chord, const SampleLanes& lanes) {
         for (std::uint64_t left = leaf_aims[leaf]; left != 0; left &= left - 1) {
             const int a = std::countr_zero(left);
             const RowTest& test = aims[a].row_test;
             const unsigned bits =
                 chord & (test.chirped ? chirped_within(lanes, *test.chirped) : differences_within(lanes, test.bounds));
-            counts[a] += list_bits(bits, c0, columns + a * stride + counts[a]);
+            if (bits != 0) counts[a] += write_lanes(r, c0, bits, lanes.samples, r.chirped, slots[a], counts[a]);
         }
     };
-    for_each_leaf_in_chord(leaves, leaves.chirped, test_leaf);
+    for_each_leaf_in_chord(row, row.chirped, test_leaf);
+    std::size_t appended = 0;
+    for (std::size_t a = 0; a < aim_count; ++a) {
+        aims[a].kernels->extend(counts[a]);
+        appended += counts[a];
+    }
+    return appended;
 }
 
 // The directions of one walk, the Collector's policy. OneAim: a single direction (every render
@@ -485,13 +658,11 @@ public:
     void for_each(Mask, const Visit& visit) {
         visit(aim_);
     }
-    // K = 1: add(aim, columns, count) with the row's kernels that pass the aim's test.
-    template <typename Add>
-    void add_row_survivors(const RowLeaves& leaves, const Mask*, int* columns, std::size_t, const Add& add) const {
+    // K = 1: appends the row's kernels that pass the aim's test to its kernels; returns how many.
+    std::size_t append_survivors(const SampledRow& row, const Mask*) const {
         const RowTest& test = aim_.row_test;
-        add(aim_, columns,
-            test.chirped ? list_chirped_row_survivors(leaves, *test.chirped, columns)
-                         : list_row_survivors(leaves, test.bounds, columns));
+        return test.chirped ? append_chirped_row_survivors(row, *test.chirped, *aim_.kernels)
+                            : append_row_survivors(row, test.bounds, *aim_.kernels);
     }
 
 private:
@@ -515,15 +686,9 @@ public:
     void for_each(Mask within, const Visit& visit) const {
         for (; within != 0; within &= within - 1) visit(aims_[std::countr_zero(within)]);
     }
-    // K = 1: add(aim, columns, count) for each aim with the row's kernels that pass its test
-    // (stride: the columns each aim may list).
-    template <typename Add>
-    void add_row_survivors(const RowLeaves& leaves, const Mask* leaf_aims, int* columns, std::size_t stride,
-                           const Add& add) const {
-        std::array<std::size_t, kMaxAims> counts;
-        std::fill_n(counts.begin(), aims_.size(), std::size_t{0});
-        list_row_survivors(leaves, leaf_aims, aims_.data(), columns, stride, counts.data());
-        for (std::size_t a = 0; a < aims_.size(); ++a) add(aims_[a], columns + a * stride, counts[a]);
+    // K = 1: appends to each aim's kernels the row's kernels that pass its test; returns how many in all.
+    std::size_t append_survivors(const SampledRow& row, const Mask* leaf_aims) const {
+        return append_row_survivors(row, leaf_aims, aims_.data(), aims_.size());
     }
 
 private:
@@ -531,24 +696,28 @@ private:
 };
 
 // w(p) = w(p_x, 0)·w(0, p_y) for both footprints: its factors at the kernel columns and rows
-// around one footprint centre, tabulated once per query instead of once per kernel.
+// around one footprint centre, tabulated once per query instead of once per kernel. kPadding
+// zeros on either side let a leaf's eight columns be read at once wherever the chord meets it.
 class SeparableWeights {
 public:
+    static constexpr long long kPadding = kLeafKernels;
     void tabulate(const gabor::CoherenceWindow& window, const gabor::KernelGrid& grid, double cx, double cy) {
         tabulate_axis(window, grid, cx, window.half_extent_um().x, first_column_, columns_);
         tabulate_axis(window, grid, cy, window.half_extent_um().y, first_row_, rows_);
     }
-    double along_x(long long i) const { return columns_[i - first_column_]; }
-    const double* columns() const { return columns_.data(); }  // along_x of first_column(), …
+    double along_x(long long i) const { return columns_[kPadding + i - first_column_]; }
+    // along_x of first_column(), first_column() + 1, …, valid from kPadding columns before the first.
+    const double* columns() const { return columns_.data() + kPadding; }
     long long first_column() const { return first_column_; }
-    double along_y(long long j) const { return rows_[j - first_row_]; }
+    double along_y(long long j) const { return rows_[kPadding + j - first_row_]; }
 
 private:
     static void tabulate_axis(const gabor::CoherenceWindow& window, const gabor::KernelGrid& grid, double centre,
-                              double extent, long long& first, std::vector<double>& factors) {
+                              double extent, long long& first, std::vector<double>& padded) {
         first = static_cast<long long>(std::floor((centre - extent) / grid.spacing_um - 0.5));
         const long long last = static_cast<long long>(std::ceil((centre + extent) / grid.spacing_um - 0.5));
-        factors.resize(last - first + 1);
+        padded.assign(last - first + 1 + 2 * kPadding, 0.0);
+        double* const factors = padded.data() + kPadding;
         // Along a row of kernel centres p_i = p_0 + i l the Gaussian factor obeys w_{i+1} = w_i r_i,
         // r_{i+1} = r_i q with q = w(l)²: three exps instead of one per kernel, and relative
         // errors that grow only by an ulp or so per step (1 for a box window). A footprint far
@@ -562,8 +731,8 @@ private:
             return;
         }
         double ratio = window.weight(p0 + grid.spacing_um, 0.0) / w;
-        for (double& factor : factors) {
-            factor = w;
+        for (long long i = 0; i <= last - first; ++i) {
+            factors[i] = w;
             w *= ratio;
             ratio *= ratio_step;
         }
@@ -574,79 +743,6 @@ private:
     std::vector<double> columns_;
     std::vector<double> rows_;
 };
-
-// One y-up row of samples at K = 1 and what its kernels share.
-struct SampledRow {
-    const float* below;  // rows j − 1, j, j + 1 (wrapped)
-    const float* row;
-    const float* above;
-    int cols;
-    double texel_um;
-    double centre_x;          // x_c in this tile copy
-    double py;                // kernel centre y − x_c,y
-    double reference_height;  // H(x_c)
-    double weight_y;          // w(0, p_y) l²
-    const double* weight_x;   // w(p_x, 0) of columns first_column, first_column + 1, …
-    long long first_column;
-    bool chirped;             // second order: also H''
-};
-
-// Appends the kernels at samples (columns[k], j), k < count: p relative to x_c, H − H(x_c), H'
-// and w_k l², and at second order H'' with sample_curvature()'s arithmetic. H' is
-// sample_point()'s (−½H(c − 1) + ½H(c + 1))/dx, computed as (H(c + 1) − H(c − 1))·(½/dx), which
-// rounds identically (halving is exact). Out of line and on local
-// copies: inlined into the query, the loop ran out of registers and reloaded everything from
-// memory; without wrapped columns it vectorises (gathers) where the CPU has AVX2.
-GLINTSCOPE_OUT_OF_LINE_CLONES
-void append_sampled_kernels(const SampledRow& r, const int* columns, std::size_t count,
-                            gabor::KernelArrays& kernels) {
-    const std::size_t at = kernels.extend(count);
-    double* __restrict px = kernels.px.data() + at;
-    double* __restrict py = kernels.py.data() + at;
-    double* __restrict height = kernels.height.data() + at;
-    double* __restrict slope_x = kernels.slope_x.data() + at;
-    double* __restrict slope_y = kernels.slope_y.data() + at;
-    double* __restrict weight = kernels.weight.data() + at;
-    double* __restrict curvature_xx = kernels.curvature_xx.data() + at;
-    double* __restrict curvature_xy = kernels.curvature_xy.data() + at;
-    double* __restrict curvature_yy = kernels.curvature_yy.data() + at;
-    const bool chirped = r.chirped;
-    const double curvature_scale = 1.0 / (r.texel_um * r.texel_um);
-    const float* __restrict below = r.below;
-    const float* __restrict row = r.row;
-    const float* __restrict above = r.above;
-    const double* __restrict weight_x = r.weight_x;
-    const long long first_column = r.first_column;
-    const int cols = r.cols;
-    const double texel = r.texel_um;
-    const double half_inverse_texel = 0.5 / texel;
-    const double centre_x = r.centre_x;
-    const double row_py = r.py;
-    const double reference_height = r.reference_height;
-    const double weight_y = r.weight_y;
-    const auto store = [&](std::size_t k, int c, int left, int right) {
-        px[k] = (c + 0.5) * texel - centre_x;
-        py[k] = row_py;
-        height[k] = row[c] - reference_height;
-        slope_x[k] = (double(row[right]) - double(row[left])) * half_inverse_texel;
-        slope_y[k] = (double(above[c]) - double(below[c])) * half_inverse_texel;
-        weight[k] = weight_x[c - first_column] * weight_y;
-        if (!chirped) return;
-        curvature_xx[k] = (double(row[left]) - 2.0 * double(row[c]) + double(row[right])) * curvature_scale;
-        curvature_yy[k] = (double(below[c]) - 2.0 * double(row[c]) + double(above[c])) * curvature_scale;
-        curvature_xy[k] = 0.25 *
-                          (double(above[right]) - double(above[left]) - double(below[right]) + double(below[left])) *
-                          curvature_scale;
-    };
-    if (count > 0 && columns[0] > 0 && columns[count - 1] + 1 < cols) {
-        for (std::size_t k = 0; k < count; ++k) store(k, columns[k], columns[k] - 1, columns[k] + 1);
-        return;
-    }
-    for (std::size_t k = 0; k < count; ++k) {
-        const int c = columns[k];
-        store(k, c, c == 0 ? cols - 1 : c - 1, c + 1 == cols ? 0 : c + 1);
-    }
-}
 
 void check_finite(const GaborPointQuery& query) {
     const Vec3 wi = query.omega_i;
@@ -818,9 +914,9 @@ struct CollectScratch {
     std::vector<NodeAims<Mask>> children;
     std::vector<Mask> leaf_map;              // over the footprint's leaves: the aims it survives for
     std::vector<int> leaf_columns;           // the surviving leaves of one leaf row (for any aim)
+    std::vector<PassingLeaf> passing_leaves;  // parallel to leaf_columns: K = 1, one aim's passing leaves
     std::vector<Mask> leaf_aims;             // parallel to leaf_columns
     std::vector<SurfacePoint> block;
-    std::vector<int> survivor_columns;       // K = 1: kernels of one row that survive pruning
     SeparableWeights weights;
 };
 
@@ -994,43 +1090,32 @@ struct GaborSurface::Collector {
 
     // K = 1: for each aim, the kernels of its surviving leaves inside the window's chord [first,
     // last] on kernel row j, tested on their samples' central differences (computed once for all
-    // aims). The survivors' columns are listed first, 8 slots written per leaf and the count of
-    // survivors kept, so that no branch depends on which kernels survive; then their H and H'
-    // (sample_point's arithmetic, with the row's neighbours fixed) go straight into each aim's
-    // kernel arrays. stride: the columns each aim may list.
-    void add_sampled_row(double cx, double cy, int j, long long first, long long last, std::size_t stride) {
+    // aims); each leaf's survivors go straight into the aim's kernel arrays, eight lanes computed
+    // at once and the kept ones moved together, so that no branch depends on which kernels
+    // survive (write_lanes; with one aim after all the row's leaves are tested, append_passing).
+    void add_sampled_row(double cx, double cy, int j, long long first, long long last) {
         const int rows = surface.hierarchy_->kernels_y;
-        const float* row = surface.surface_->sample_row(j);
-        const float* below = surface.surface_->sample_row(j == 0 ? rows - 1 : j - 1);
-        const float* above = surface.surface_->sample_row(j + 1 == rows ? 0 : j + 1);
-        const RowLeaves leaves{below,
-                               row,
-                               above,
-                               surface.hierarchy_->kernels_x,
-                               scratch.leaf_columns.data(),
-                               scratch.leaf_columns.size(),
-                               first,
-                               last,
-                               chirped,
-                               curvature_slack};
-        const SampledRow sampled_row{below,
-                                     row,
-                                     above,
-                                     surface.hierarchy_->kernels_x,
-                                     grid.spacing_um,
-                                     cx,
-                                     grid.centre(j) - cy,
-                                     reference_height,
-                                     scratch.weights.along_y(j) * weight_scale,
-                                     scratch.weights.columns(),
-                                     scratch.weights.first_column(),
-                                     chirped};
-        aims.add_row_survivors(leaves, scratch.leaf_aims.data(), scratch.survivor_columns.data(), stride,
-                               [&](const Aim& aim, const int* columns, std::size_t count) {
-                                   if (count == 0) return;
-                                   counts.kernels_evaluated += count;
-                                   append_sampled_kernels(sampled_row, columns, count, *aim.kernels);
-                               });
+        const SampledRow row{surface.surface_->sample_row(j == 0 ? rows - 1 : j - 1),
+                             surface.surface_->sample_row(j),
+                             surface.surface_->sample_row(j + 1 == rows ? 0 : j + 1),
+                             surface.hierarchy_->kernels_x,
+                             scratch.leaf_columns.data(),
+                             scratch.leaf_columns.size(),
+                             first,
+                             last,
+                             chirped,
+                             curvature_slack,
+                             grid.spacing_um,
+                             0.5 / grid.spacing_um,
+                             1.0 / (grid.spacing_um * grid.spacing_um),
+                             cx,
+                             grid.centre(j) - cy,
+                             reference_height,
+                             scratch.weights.along_y(j) * weight_scale,
+                             scratch.weights.columns(),
+                             scratch.weights.first_column(),
+                             scratch.passing_leaves.data()};
+        counts.kernels_evaluated += aims.append_survivors(row, scratch.leaf_aims.data());
     }
 
     // K > 1: per surviving leaf, the kernels inside the window whose codes may reach; the leaf's
@@ -1094,11 +1179,9 @@ struct GaborSurface::Collector {
                 last[j - j0] = i1 - 1;
             }
         if (sampled) {
-            // + 8: unpacking writes 8 slots past each aim's survivors.
-            const std::size_t stride = leaf_columns.size() * kLeafKernels + 8;
-            scratch.survivor_columns.resize(std::max(scratch.survivor_columns.size(), aims.size() * stride));
+            scratch.passing_leaves.resize(leaf_columns.size());
             for (int j = j0; j < j1; ++j)
-                if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0], stride);
+                if (first[j - j0] <= last[j - j0]) add_sampled_row(cx, cy, j, first[j - j0], last[j - j0]);
             return;
         }
         const std::size_t most = leaf_columns.size() * kLeafKernels * kLeafKernels;
