@@ -441,9 +441,13 @@ std::vector<RenderImage> render_frames(const std::vector<Scene>& frames, const B
 
 }  // namespace
 
+// The render's thread count: settings.threads, or with 0 the caller's (its own ThreadScope, such
+// as the CLI's --threads), which a scope of 0 would replace by the default.
+static int render_threads(const RenderSettings& settings) { return settings.threads > 0 ? settings.threads : thread_count(); }
+
 RenderImage render(const Scene& scene, const RenderSettings& settings, const RunProgress& progress) {
     validate(scene, settings);
-    const ThreadScope threads(settings.threads);  // the field's hierarchy and the rows
+    const ThreadScope threads(render_threads(settings));  // the field's hierarchy and the rows
     return std::move(render_frames({scene}, scene_field(scene), settings, progress).front());
 }
 
@@ -451,7 +455,7 @@ std::vector<RenderImage> render_light_sweep(const Scene& scene, int frames, doub
                                             const RunProgress& progress) {
     const std::vector<Scene> sweep = light_sweep(scene, frames, span_um);
     validate(scene, settings);
-    const ThreadScope threads(settings.threads);
+    const ThreadScope threads(render_threads(settings));
     return render_frames(sweep, scene_field(scene), settings, progress);  // the lights move; the surface does not
 }
 

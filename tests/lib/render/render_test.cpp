@@ -6,12 +6,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <set>
+#include <thread>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "glintscope/bsdf/bsdf.hpp"
 #include "glintscope/core/error.hpp"
+#include "glintscope/core/parallel.hpp"
 #include "glintscope/fit/ndf_fit.hpp"
 #include "glintscope/generate/generate.hpp"
 #include "glintscope/optics/diffraction_model.hpp"
@@ -202,6 +205,15 @@ TEST(Render, OneAndTwoThreadsGiveTheSameImage) {
     const RenderImage two = render(scene, RenderSettings{4, 2});
     EXPECT_EQ(one.values, two.values);
     EXPECT_GT(*std::max_element(one.values.begin(), one.values.end()), 0.0f);
+}
+
+// settings.threads = 0 keeps the caller's thread count (the CLI's --threads): inside a scope of
+// one thread every row is rendered, and its progress reported, on the calling thread.
+TEST(Render, ZeroThreadsKeepsTheCallersThreadCount) {
+    const ThreadScope one(1);
+    std::set<std::thread::id> threads;
+    render(isotropic_scene(), RenderSettings{4, 0}, [&](std::size_t, std::size_t) { threads.insert(std::this_thread::get_id()); });
+    EXPECT_EQ(threads, std::set<std::thread::id>{std::this_thread::get_id()});
 }
 
 // A sweep over glints (two lights, two wavelengths): each shading point evaluates all frames'
