@@ -82,7 +82,10 @@ auto prefixed(const std::string& method, const Make& make) {
 
 struct Bsdf::State {
     std::string method;
-    LobeQuery query;
+    // The planned query, shared with the field that made it (BsdfField::at makes one State per
+    // shading point, which must not copy the query), and the footprint that replaces its own.
+    std::shared_ptr<const LobeQuery> query;
+    Footprint footprint;
     PointAnswers point;
     // The tables of the most recent ω_i, newest last, under the mutex; a table is immutable and
     // shared, so a reader keeps it while another thread replaces the list.
@@ -97,7 +100,8 @@ struct Bsdf::State {
                 if (key.x == omega_i.x && key.y == omega_i.y && key.z == omega_i.z) return table;
         }
         // Computed outside the lock: two threads may both compute a new ω_i, with identical results.
-        LobeQuery one = query;
+        LobeQuery one = *query;
+        one.footprint = footprint;
         one.omega_i = omega_i;
         auto made = std::make_shared<const DiskDistribution>(image_distribution(compute_lobe(method, one)));
         const std::lock_guard lock(mutex);
@@ -110,7 +114,7 @@ struct Bsdf::State {
 Bsdf::Bsdf(std::shared_ptr<State> state) : state_(std::move(state)) {}
 
 const std::string& Bsdf::method() const { return state_->method; }
-const std::vector<double>& Bsdf::wavelengths_um() const { return state_->query.wavelengths_um; }
+const std::vector<double>& Bsdf::wavelengths_um() const { return state_->query->wavelengths_um; }
 
 bool Bsdf::evaluates_directly() const { return static_cast<bool>(state_->point.eval); }
 bool Bsdf::samples_directly() const { return static_cast<bool>(state_->point.sample); }
@@ -223,7 +227,7 @@ std::vector<double> Bsdf::albedo(Vec3 omega_i) const {
     if (state_->point.albedo) return state_->point.albedo(omega_i);
     // ∫ f_r dA over the disk by the images' own rule (image.hpp): K × K sub-pixels of the pixels
     // whose centre lies inside, so the albedo is the disk sum of the image at supersample K.
-    const int n = state_->query.resolution, k = kAlbedoSupersample;
+    const int n = state_->query->resolution, k = kAlbedoSupersample;
     std::vector<double> sum(layers, 0.0);
     for (int row = 0; row < n; ++row)
         for (int col = 0; col < n; ++col) {
@@ -244,14 +248,15 @@ std::vector<double> Bsdf::albedo(Vec3 omega_i) const {
 Bsdf make_bsdf(const std::string& method, const LobeQuery& query) {
     auto state = std::make_shared<Bsdf::State>();
     state->method = method;
-    state->query = table_query(method, query, Quantity::brdf);
-    state->point = prefixed(method, [&] { return point_answers(method, state->query); });
+    state->query = std::make_shared<const LobeQuery>(table_query(method, query, Quantity::brdf));
+    state->footprint = state->query->footprint;
+    state->point = prefixed(method, [&] { return point_answers(method, *state->query); });
     return Bsdf(std::move(state));
 }
 
 struct BsdfField::State {
     std::string method;
-    LobeQuery query;  // planned; its footprint replaced by each `at`
+    std::shared_ptr<const LobeQuery> query;  // planned; its footprint replaced by each `at`
     PointAnswersAt at;
     bool ellipses = false;
     bool rotated_boxes = false;
@@ -260,7 +265,7 @@ struct BsdfField::State {
 BsdfField::BsdfField(std::shared_ptr<const State> state) : state_(std::move(state)) {}
 
 const std::string& BsdfField::method() const { return state_->method; }
-const std::vector<double>& BsdfField::wavelengths_um() const { return state_->query.wavelengths_um; }
+const std::vector<double>& BsdfField::wavelengths_um() const { return state_->query->wavelengths_um; }
 bool BsdfField::answers_ellipses() const { return state_->ellipses; }
 bool BsdfField::answers_rotated_boxes() const { return state_->rotated_boxes; }
 
@@ -274,7 +279,7 @@ Bsdf BsdfField::at(const Footprint& footprint) const {
     if (is_rotated_box(footprint) && !state_->rotated_boxes)
         throw Error(state_->method + " with these settings takes axis-aligned box footprints, not a box rotated by " +
                     shortest_text(footprint.axis_radians) + " rad");
-    state->query.footprint = footprint;
+    state->footprint = footprint;
     state->point = state_->at(footprint);
     return Bsdf(std::move(state));
 }
@@ -289,21 +294,21 @@ std::vector<std::string> bsdf_field_methods() {
 BsdfField make_bsdf_field(const std::string& method, const LobeQuery& query) {
     auto state = std::make_shared<BsdfField::State>();
     state->method = method;
-    state->query = table_query(method, query, Quantity::brdf);
+    state->query = std::make_shared<const LobeQuery>(table_query(method, query, Quantity::brdf));
     const MethodEntry& entry = method_entry(method);
     if (!entry.point_field) {
         const std::vector<std::string> names = bsdf_field_methods();
         throw Error(method + " has no point query for any footprint (a BSDF per shading point); methods that have one: " +
                     (names.empty() ? std::string("none") : join(names)));
     }
-    state->at = prefixed(method, [&] { return entry.point_field(state->query); });
+    state->at = prefixed(method, [&] { return entry.point_field(*state->query); });
     // Whether these settings answer a footprint the images cannot take by the point query.
     const auto answers = [&](const Footprint& probe) { return static_cast<bool>(state->at(probe).eval); };
-    Footprint ellipse = state->query.footprint;
+    Footprint ellipse = state->query->footprint;
     ellipse.shape = FootprintShape::gaussian;
     ellipse.sigma_minor_um = 0.5 * ellipse.sigma_um;
     state->ellipses = entry.info.elliptical_footprints && answers(ellipse);
-    Footprint rotated_box = state->query.footprint;
+    Footprint rotated_box = state->query->footprint;
     rotated_box.shape = FootprintShape::box;
     rotated_box.size_um = rotated_box.size_y_um = 10.0;
     rotated_box.sigma_minor_um = 0.0;
