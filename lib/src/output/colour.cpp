@@ -1,13 +1,13 @@
 #include "glintscope/output/colour.hpp"
 
 #include <algorithm>
-#include <iterator>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <iterator>
 #include <span>
 #include <sstream>
 

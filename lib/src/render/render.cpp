@@ -439,11 +439,11 @@ std::vector<RenderImage> render_frames(const std::vector<Scene>& frames, const B
     return images;
 }
 
-}  // namespace
-
 // The render's thread count: settings.threads, or with 0 the caller's (its own ThreadScope, such
 // as the CLI's --threads), which a scope of 0 would replace by the default.
-static int render_threads(const RenderSettings& settings) { return settings.threads > 0 ? settings.threads : thread_count(); }
+int render_threads(const RenderSettings& settings) { return settings.threads > 0 ? settings.threads : thread_count(); }
+
+}  // namespace
 
 RenderImage render(const Scene& scene, const RenderSettings& settings, const RunProgress& progress) {
     validate(scene, settings);
