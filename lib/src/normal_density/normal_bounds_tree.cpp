@@ -615,6 +615,23 @@ struct Query {
         return dx * dx + dy * dy > weight.cutoff_squared * (1.0 + 1e-9);
     }
 
+    // Of a tile's entries [begin, end) of one bin, those of the tile's local rows [row0, row1):
+    // the entries run in row-major order of their places, so these are contiguous. A footprint
+    // smaller than a tile reads only its own rows' entries.
+    std::pair<std::uint32_t, std::uint32_t> entries_of_rows(std::uint32_t begin, std::uint32_t end, int row0, int row1) const {
+        const int side = NormalBoundsTree::kTileCells;
+        const BinnedCell* const cells = tree.cells.data();
+        const auto first_of_row = [&](int row) {
+            if (row <= 0) return begin;
+            if (row >= side) return end;
+            return static_cast<std::uint32_t>(
+                std::partition_point(cells + begin, cells + end,
+                                     [&](const BinnedCell& entry) { return (entry.place >> 6) < row * side; }) -
+                cells);
+        };
+        return {first_of_row(row0), first_of_row(row1)};
+    }
+
     // The cells of the field [x0, x1) × [y0, y1), which stand at unwrapped (I + ox, J + oy), tile
     // by tile and in each tile row by row; pruned, only the cells of the normal's bin whose box
     // holds it and which reach within the cutoff (the others' triangles add exactly 0).
@@ -633,7 +650,8 @@ struct Query {
                 }
                 if (bin_row < 0 || beyond_cutoff(lo_x + ox, hi_x + ox, lo_y + oy, hi_y + oy)) continue;
                 const std::size_t t = static_cast<std::size_t>(tile_y) * tree.tile_cols + tile_x;
-                const std::uint32_t begin = tree.offsets[bin_row * stride + t], end = tree.offsets[bin_row * stride + t + 1];
+                const auto [begin, end] = entries_of_rows(tree.offsets[bin_row * stride + t], tree.offsets[bin_row * stride + t + 1],
+                                                          lo_y - tile_y * side, hi_y - tile_y * side);
                 // The tile's candidates first, their samples' images and strays prefetched, so
                 // that their cache misses overlap instead of following one another.
                 struct Candidate {
