@@ -80,9 +80,14 @@ struct CellPatch {
             if (count < 2) return 0;
             return index < 0 ? index + count : index >= count ? index - count : index;
         };
+        // Away from the field's edges (nearly every cell) a row's four taps are contiguous.
+        const bool inside_columns = i >= 1 && i + 2 < cols;
         for (int m = 0; m < 4; ++m) {
             const float* row = surface.sample_row(wrapped(j - 1 + m, rows));
-            for (int k = 0; k < 4; ++k) taps[m][k] = row[wrapped(i - 1 + k, cols)];
+            if (inside_columns)
+                for (int k = 0; k < 4; ++k) taps[m][k] = row[i - 1 + k];
+            else
+                for (int k = 0; k < 4; ++k) taps[m][k] = row[wrapped(i - 1 + k, cols)];
         }
         inverse_dx = 1.0 / surface.texel_um();
         inverse_dy = 1.0 / surface.texel_y_um();
@@ -151,22 +156,24 @@ SubCornerStore& sub_corner_store() {
 }
 
 // The images of a divided cell's sub-corners: its four corners are the samples' images (as an
-// undivided neighbour's), the others evaluated once per use of the cell, on first need.
+// undivided neighbour's), stored up front; the others evaluated once per use of the cell, on
+// first need.
 class SubCorners {
 public:
-    SubCorners(const CellPatch& patch, const CellCorners& corners, int n, SubCornerStore& store)
-        : patch_(patch), corners_(corners), n_(n) {
+    [[gnu::always_inline]] SubCorners(const CellPatch& patch, const CellCorners& corners, int n, SubCornerStore& store)
+        : patch_(patch), n_(n) {
         if (++store.generation == 0) {
             std::fill(store.stamps.begin(), store.stamps.end(), 0), store.generation = 1;
             std::fill(store.column_stamps.begin(), store.column_stamps.end(), 0);
         }
         images_ = store.images.data(), stamps_ = store.stamps.data(), generation_ = store.generation;
         columns_ = store.columns.data(), column_stamps_ = store.column_stamps.data(), weights_ = sub_corner_weights(n);
+        const std::size_t top = static_cast<std::size_t>(n) * (n + 1);
+        images_[0] = corners.p00, images_[n] = corners.p10, images_[top] = corners.p01, images_[top + n] = corners.p11;
+        stamps_[0] = stamps_[n] = stamps_[top] = stamps_[top + n] = generation_;
     }
 
     Pixel at(int a, int b) const {
-        if ((a == 0 || a == n_) && (b == 0 || b == n_))
-            return a == 0 ? (b == 0 ? corners_.p00 : corners_.p01) : (b == 0 ? corners_.p10 : corners_.p11);
         const std::size_t k = static_cast<std::size_t>(b) * (n_ + 1) + a;
         if (stamps_[k] != generation_) {
             if (column_stamps_[a] != generation_) columns_[a] = patch_.column(weights_[a]), column_stamps_[a] = generation_;
@@ -177,7 +184,6 @@ public:
 
 private:
     const CellPatch& patch_;
-    const CellCorners& corners_;
     int n_;
     Pixel* images_;
     std::uint32_t* stamps_;
@@ -551,11 +557,16 @@ struct Query {
             if (prune && !quad_holds(q00, q10, q01, q11, widening)) continue;
             if (!corners) patch.emplace(tree, i, j), corners.emplace(*patch, c, n, store);
             const double inverse_width = 1.0 / (r.a1 - r.a0), inverse_height = 1.0 / (r.b1 - r.b0);
+            // The blend along sub-rows b and b + 1: linear in a from the quadrant's left edge
+            // (q00–q01) to its right (q10–q11); row b + 1's ends are the next row's lower ones.
+            // (Only tests read the blend: rounding differences are far inside their quantum's margin.)
+            const auto lerp = [](Pixel p, Pixel q, double t) { return Pixel{p.u + t * (q.u - p.u), p.v + t * (q.v - p.v)}; };
+            Pixel bottom_left = q00, bottom_right = q10;
             for (int b = r.b0; b < r.b1; ++b) {
-                // The blend along sub-rows b and b + 1: linear in a from the quadrant's left edge to its right.
-                const double t0 = (b - r.b0) * inverse_height, t1 = (b + 1 - r.b0) * inverse_height;
-                const Pixel left0 = bilinear(q00, q10, q01, q11, 0.0, t0), right0 = bilinear(q00, q10, q01, q11, 1.0, t0);
-                const Pixel left1 = bilinear(q00, q10, q01, q11, 0.0, t1), right1 = bilinear(q00, q10, q01, q11, 1.0, t1);
+                const double t = (b + 1 - r.b0) * inverse_height;
+                const Pixel left0 = bottom_left, right0 = bottom_right;
+                const Pixel left1 = lerp(q00, q01, t), right1 = lerp(q10, q11, t);
+                bottom_left = left1, bottom_right = right1;
                 // The row's sub-cells' blended corners lie on the segments left0–right0 and
                 // left1–right1, so within their ends' box: a row whose widened box misses h is skipped whole.
                 if (prune && !quad_holds(left0, right0, left1, right1, widening)) continue;
@@ -563,10 +574,13 @@ struct Query {
                     const double f = (a - r.a0) * inverse_width;
                     return Pixel{l.u + f * (rr.u - l.u), l.v + f * (rr.v - l.v)};
                 };
+                // Each sub-cell's right blended corners are the next one's left.
+                Pixel lower_left = left0, upper_left = left1;
                 for (int a = r.a0; a < r.a1; ++a) {
-                    if (prune && !quad_holds(along(left0, right0, a), along(left0, right0, a + 1), along(left1, right1, a),
-                                             along(left1, right1, a + 1), widening))
-                        continue;
+                    const Pixel lower_right = along(left0, right0, a + 1), upper_right = along(left1, right1, a + 1);
+                    const bool misses = prune && !quad_holds(lower_left, lower_right, upper_left, upper_right, widening);
+                    lower_left = lower_right, upper_left = upper_right;
+                    if (misses) continue;
                     const Pixel p00 = corners->at(a, b), p10 = corners->at(a + 1, b);
                     const Pixel p01 = corners->at(a, b + 1), p11 = corners->at(a + 1, b + 1);
                     if (prune && !quad_holds(p00, p10, p01, p11, reach)) continue;
