@@ -617,16 +617,17 @@ struct Query {
     // then a sub-cell's is its left column's or its right's.
     std::uint64_t sub_cells_holding(Pixel left0, Pixel right0, Pixel left1, Pixel right1, int count, double by) const {
         const double inverse_count = 1.0 / count;
+        const double u_high = normal.u + by, u_low = normal.u - by, v_high = normal.v + by, v_low = normal.v - by;
         std::uint64_t u_below = 0, u_above = 0, v_below = 0, v_above = 0;
+        // Without branches: which way each comparison goes varies from column to column.
         for (int x = 0; x <= count; ++x) {
             const double f = x * inverse_count;
             const double u0 = left0.u + f * (right0.u - left0.u), u1 = left1.u + f * (right1.u - left1.u);
             const double v0 = left0.v + f * (right0.v - left0.v), v1 = left1.v + f * (right1.v - left1.v);
-            const std::uint64_t bit = std::uint64_t{1} << x;
-            u_below |= (u0 <= normal.u + by || u1 <= normal.u + by) ? bit : 0;
-            u_above |= (u0 >= normal.u - by || u1 >= normal.u - by) ? bit : 0;
-            v_below |= (v0 <= normal.v + by || v1 <= normal.v + by) ? bit : 0;
-            v_above |= (v0 >= normal.v - by || v1 >= normal.v - by) ? bit : 0;
+            u_below |= static_cast<std::uint64_t>((u0 <= u_high) | (u1 <= u_high)) << x;
+            u_above |= static_cast<std::uint64_t>((u0 >= u_low) | (u1 >= u_low)) << x;
+            v_below |= static_cast<std::uint64_t>((v0 <= v_high) | (v1 <= v_high)) << x;
+            v_above |= static_cast<std::uint64_t>((v0 >= v_low) | (v1 >= v_low)) << x;
         }
         const auto either_side = [](std::uint64_t columns) { return columns | columns >> 1; };
         return either_side(u_below) & either_side(u_above) & either_side(v_below) & either_side(v_above) &
