@@ -7,6 +7,7 @@
 #include <numbers>
 #include <type_traits>
 
+#include "core/target_clones.hpp"
 #include "glintscope/core/error.hpp"
 
 // The SIMD helpers here and in gabor_math.hpp are always inlined, so the vector calling
@@ -210,6 +211,108 @@ void sum_prepared_chirped_terms_and_density(const KernelArrays& k, const ChirpFa
         sum_prepared_terms<true, false>(k, c, norm, density_cut, runs, run_count, point, out_re, out_im, density);
     else
         sum_prepared_terms<true, true>(k, c, norm, density_cut, runs, run_count, point, out_re, out_im, density);
+}
+
+// The factors of a WavelengthFreeTerms term at one wavelength: s = 2πσ²ξ3/λ, and β/λ² and βs/λ²,
+// which turn |U|² and Uᵀ adj(H'')U into β uᵀu and β uᵀ adj(E) u.
+struct WavelengthScales {
+    double s = 0.0;
+    double s_squared = 0.0;
+    double beta_over_lambda2 = 0.0;
+    double beta_s_over_lambda2 = 0.0;
+    double inverse_lambda = 0.0;
+};
+
+// add_chirped_term's term from the kernel's wavelength-free factors (WavelengthFreeTerms), with
+// β uᵀM⁻¹u = β uᵀ adj(M) u / det M, adj(M) = I + i adj(E); no cut (the caller's kernels are within it).
+template <typename T>
+[[gnu::always_inline]] inline void add_wavelength_free_term(const T& length_squared, const T& adjugate_form,
+                                                            const T& determinant, const T& trace, const T& phase,
+                                                            const T& weight, const WavelengthScales& w, T& sum_re,
+                                                            T& sum_im) {
+    const T det_re = 1.0 - w.s_squared * determinant;
+    const T det_im = w.s * trace;
+    const T norm2 = det_re * det_re + det_im * det_im;
+    const T inverse_norm2 = 1.0 / norm2;
+    const T det_abs = sqrt_of(norm2);
+    const T num_re = w.beta_over_lambda2 * length_squared;
+    const T num_im = w.beta_s_over_lambda2 * adjugate_form;
+    const T q_re = (num_re * det_re + num_im * det_im) * inverse_norm2;
+    const T q_im = (num_im * det_re - num_re * det_im) * inverse_norm2;
+    // As in add_chirped_term: e^{−25} stands for anything smaller inside the widened box.
+    const T amplitude = weight * gabor_math::exp_neg(min_of(q_re, T{} + 25.0)) * (det_abs * inverse_norm2);
+    T cos_phase;
+    T sin_phase;
+    gabor_math::cos_sin_turns(w.inverse_lambda * phase + (0.5 / pi) * q_im, cos_phase, sin_phase);
+    // det^{−1/2} = conj(√det)/|det|, √det = (r, det_im/(2r)), r = √((|det| + det_re)/2) > 0.
+    const T root_re = sqrt_of(0.5 * (det_abs + det_re));
+    const T root_im = det_im / (2.0 * root_re);
+    sum_re += amplitude * (cos_phase * root_re - sin_phase * root_im);
+    sum_im -= amplitude * (sin_phase * root_re + cos_phase * root_im);
+}
+
+GLINTSCOPE_OUT_OF_LINE_CLONES
+void sum_wavelength_free(const WavelengthFreeTerms& t, std::size_t end, const WavelengthScales& scales, double& out_re,
+                         double& out_im) {
+    const auto add = [&](std::size_t i, auto& re, auto& im, auto&) __attribute__((always_inline)) {
+        using T = std::decay_t<decltype(re)>;
+        using gabor_math::lanes;
+        add_wavelength_free_term(lanes<T>(&t.length_squared[i]), lanes<T>(&t.adjugate_form[i]),
+                                 lanes<T>(&t.determinant[i]), lanes<T>(&t.trace[i]), lanes<T>(&t.phase[i]),
+                                 lanes<T>(&t.weight[i]), scales, re, im);
+    };
+    double unused = 0.0;
+    gabor_math::sum_in_lanes(0, end, add, out_re, out_im, unused);
+}
+
+// The arrays that wavelength_free_terms reads and writes, as plain pointers: taken by value, they let
+// its loop vectorise (read from the vectors inside the function, GCC would not).
+struct KernelColumns {
+    const double* __restrict px;
+    const double* __restrict py;
+    const double* __restrict height;
+    const double* __restrict slope_x;
+    const double* __restrict slope_y;
+    const double* __restrict weight;
+    const double* __restrict hxx;
+    const double* __restrict hxy;
+    const double* __restrict hyy;
+};
+struct TermColumns {
+    double* __restrict length_squared;
+    double* __restrict adjugate_form;
+    double* __restrict determinant;
+    double* __restrict trace;
+    double* __restrict phase;
+    double* __restrict weight;
+    double* __restrict first_wavelength_squared;
+};
+
+GLINTSCOPE_OUT_OF_LINE_CLONES
+void fill_wavelength_free_terms(std::size_t n, const KernelColumns k, const TermColumns t, const KernelGrid& grid,
+                                const TransformPoint& at) {
+    const double psi_x = at.vx;
+    const double psi_y = at.vy;
+    const double xi3_value = at.xi3_over_lambda;
+    const double xi2_gx = at.xi2_gx;
+    const double xi2_gy = at.xi2_gy;
+    const double inverse_reach2 = 1.0 / (grid.reach * grid.reach);
+    const double spread_scale = grid.chirp_scale * xi3_value;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double ux = psi_x + xi3_value * k.slope_x[i];  // U = λ(v + a_k) (Yan 2018 eq. 15)
+        const double uy = psi_y + xi3_value * k.slope_y[i];
+        const double ux2 = ux * ux;
+        const double uy2 = uy * uy;
+        t.length_squared[i] = ux2 + uy2;
+        t.adjugate_form[i] = k.hyy[i] * ux2 - 2.0 * k.hxy[i] * ux * uy + k.hxx[i] * uy2;
+        t.determinant[i] = k.hxx[i] * k.hyy[i] - k.hxy[i] * k.hxy[i];
+        t.trace[i] = k.hxx[i] + k.hyy[i];
+        t.phase[i] = xi3_value * k.height[i] + k.px[i] * psi_x + k.py[i] * psi_y;
+        // Where ξ2 does not depend on H' (all models but Kirchhoff) its slope terms are 0 and ξ2 is 1 exactly.
+        t.weight[i] = k.weight[i] * (1.0 - xi2_gx * k.slope_x[i] - xi2_gy * k.slope_y[i]);
+        const double spread = spread_scale * spectral_radius(k.hxx[i], k.hxy[i], k.hyy[i]);
+        t.first_wavelength_squared[i] = (ux2 > uy2 ? ux2 : uy2) * inverse_reach2 - spread * spread;
+    }
 }
 
 template <bool SlopeFactor>
@@ -417,6 +520,32 @@ std::complex<double> sum_transforms_and_density(const KernelArrays& kernels, con
     double re = 0.0;
     double im = 0.0;
     sum_prepared_chirped_terms_and_density(kernels, factors, norm, density_cut, runs.data(), runs.size(), point, re, im, density);
+    return {re, im};
+}
+
+void wavelength_free_terms(const KernelArrays& kernels, const KernelGrid& grid, const TransformPoint& at_one_micron,
+                           WavelengthFreeTerms& terms) {
+    terms.resize(kernels.size());
+    const KernelColumns in{kernels.px.data(),           kernels.py.data(),           kernels.height.data(),
+                           kernels.slope_x.data(),      kernels.slope_y.data(),      kernels.weight.data(),
+                           kernels.curvature_xx.data(), kernels.curvature_xy.data(), kernels.curvature_yy.data()};
+    const TermColumns out{terms.length_squared.data(), terms.adjugate_form.data(), terms.determinant.data(),
+                          terms.trace.data(),          terms.phase.data(),         terms.weight.data(),
+                          terms.first_wavelength_squared.data()};
+    fill_wavelength_free_terms(kernels.size(), in, out, grid, at_one_micron);
+}
+
+std::complex<double> sum_wavelength_free_terms(const WavelengthFreeTerms& terms, std::size_t end, double lambda_um,
+                                               double xi3_over_lambda, const KernelGrid& grid) {
+    WavelengthScales scales;
+    scales.s = grid.chirp_scale * xi3_over_lambda;
+    scales.s_squared = scales.s * scales.s;
+    scales.inverse_lambda = 1.0 / lambda_um;
+    scales.beta_over_lambda2 = grid.beta * scales.inverse_lambda * scales.inverse_lambda;
+    scales.beta_s_over_lambda2 = scales.beta_over_lambda2 * scales.s;
+    double re = 0.0;
+    double im = 0.0;
+    sum_wavelength_free(terms, end, scales, re, im);
     return {re, im};
 }
 

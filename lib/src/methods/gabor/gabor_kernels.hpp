@@ -244,6 +244,35 @@ TransformPoint transform_point(DiffractionModel model, const FresnelAtWavelength
 std::complex<double> sum_transforms(const KernelArrays& kernels, std::size_t begin, std::size_t end,
                                     const TransformPoint& point, const KernelGrid& grid);
 
+// Second-order terms of one (ω_i, ω_o) prepared for sums at several wavelengths. With ψ = ω_i + ω_o
+// and U_k = ψ + ξ3 H'_k, a term depends on λ only through 1/λ and s = 2πσ²ξ3/λ (E = s H''_k):
+//   u = v + a_k = U_k/λ,   uᵀ adj(M) u = (|U|² + i s Uᵀ adj(H'') U)/λ²,
+//   det M = 1 − s² det H'' + i s tr H'',   ξ3 H_k/λ + m_k·v = (ξ3 H_k + m_k·ψ)/λ,
+// so these are computed once per kernel instead of once per wavelength. Its cut |u| ≤ reach·√(1 + ε²)
+// per axis, ε = s ρ(H''), holds exactly when λ² ≥ λ_k² = max_axis U²/reach² − (2πσ² ξ3 ρ)².
+struct WavelengthFreeTerms {
+    std::vector<double> length_squared;  // |U|²
+    std::vector<double> adjugate_form;   // Uᵀ adj(H'') U = H''_yy U_x² − 2 H''_xy U_x U_y + H''_xx U_y²
+    std::vector<double> determinant;     // det H''
+    std::vector<double> trace;           // tr H''
+    std::vector<double> phase;           // ξ3 H_k + m_k·ψ
+    std::vector<double> weight;          // w_k l² ξ2 (ξ2 does not depend on λ)
+    std::vector<double> first_wavelength_squared;  // λ_k²
+    void resize(std::size_t n) {
+        for (auto* array : {&length_squared, &adjugate_form, &determinant, &trace, &phase, &weight,
+                            &first_wavelength_squared})
+            array->resize(n);
+    }
+};
+// The terms of second-order kernels [0, kernels.size()) for the directions of `at_one_micron`,
+// transform_point's at λ = 1 µm (whose v is ψ and whose ξ3/λ is ξ3), into `terms`.
+void wavelength_free_terms(const KernelArrays& kernels, const KernelGrid& grid, const TransformPoint& at_one_micron,
+                           WavelengthFreeTerms& terms);
+// Σ_k over terms [0, end) at wavelength λ of the second-order sum_transforms, with no cut: the
+// caller passes only kernels with λ_k² ≤ λ² (those within their cut).
+std::complex<double> sum_wavelength_free_terms(const WavelengthFreeTerms& terms, std::size_t end, double lambda_um,
+                                               double xi3_over_lambda, const KernelGrid& grid);
+
 // The factors of second-order terms that depend on a kernel and on ξ3/λ but not on v, for one
 // ξ3/λ: with E = 2πσ² ξ3 H''/λ and M = I + iE, A = β M⁻¹ (complex symmetric: xx, xy, yy),
 // f = w l² det(M)^{−1/2} and the widened cut reach²(1 + ρ(E)²). Where ξ3 does not depend on the

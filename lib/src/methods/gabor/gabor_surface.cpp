@@ -1270,24 +1270,67 @@ void GaborSurface::collect(const GaborPointQuery& query, const Vec3* omegas_i, s
 
 namespace {
 
-// f_r = ξ1/A_c |Σ_k w_k C_k F[g_k](v)|² over kernels [0, end) at one wavelength (Yan 2018 eq. 16–17).
-double brdf_of_kernels(const GaborPointQuery& query, const gabor::KernelArrays& kernels, std::size_t end,
-                       double lambda_um, const gabor::KernelGrid& grid, double area_um2,
-                       GaborQueryStatistics* statistics) {
+// f_r = ξ1/A_c |Σ_k w_k C_k F[g_k](v)|² at one wavelength (Yan 2018 eq. 16–17), the sum over `end`
+// kernels taken by sum(point).
+template <typename Sum>
+double brdf_of_sum(const GaborPointQuery& query, std::size_t end, double lambda_um, double area_um2,
+                   GaborQueryStatistics* statistics, const Sum& sum) {
     const gabor::TransformPoint point =
         gabor::transform_point(query.model, gabor::FresnelAtWavelength(query.material, lambda_um), query.omega_i,
                                query.omega_o, lambda_um, area_um2);
     if (statistics) statistics->kernels_summed += end;
-    return point.brdf_scale * std::norm(gabor::sum_transforms(kernels, 0, end, point, grid));
+    return point.brdf_scale * std::norm(sum(point));
 }
 
-// Orders the kernels by the shortest wavelength that still reaches them, so that each
-// wavelength sums a prefix: kernel k reaches λ when λ ≥ λ_k = max_axis |ψ̄ + ξ3 H'_k| / reach.
-// Second order: when max_axis |ψ̄ + ξ3 H'_k| ≤ reach·√(λ² + (2πσ² ξ3 ρ_k)²), which also grows
-// with λ, so λ_k² = (max_axis |·|/reach)² − (2πσ² ξ3 ρ_k)². Returns prefix: the kernels reaching
-// ascending[a] are ordered[0, prefix[a + 1]). Compares squares, counts wavelength by wavelength and
-// scatters through plain pointers, so that the loops vectorise or at least pipeline: kernel by
-// kernel, with a square root, a division and nine copies each, this took a third of a spectral render.
+// brdf_of_sum over kernels [0, end).
+double brdf_of_kernels(const GaborPointQuery& query, const gabor::KernelArrays& kernels, std::size_t end,
+                       double lambda_um, const gabor::KernelGrid& grid, double area_um2,
+                       GaborQueryStatistics* statistics) {
+    return brdf_of_sum(query, end, lambda_um, area_um2, statistics, [&](const gabor::TransformPoint& point) {
+        return gabor::sum_transforms(kernels, 0, end, point, grid);
+    });
+}
+
+// The destinations that order kernels by the shortest wavelength that reaches them, so that each
+// wavelength sums a prefix: kernel k reaches ascending[a] when ascending[a]² ≥ needed[k]. Counts
+// (without branches, wavelength by wavelength, so that the loop vectorises) the first `tested`
+// wavelengths too short for each kernel; returns prefix: the kernels reaching ascending[a] go to
+// [0, prefix[a + 1]) (those reaching none of the tested wavelengths after prefix[tested]).
+GLINTSCOPE_OUT_OF_LINE_CLONES
+std::vector<std::size_t> first_wavelength_destinations(const double* __restrict needed, std::size_t n,
+                                                       const std::vector<double>& ascending, std::size_t tested,
+                                                       std::vector<std::size_t>& destination) {
+    thread_local std::vector<double> shorter;
+    shorter.assign(n, 0.0);
+    double* __restrict count = shorter.data();
+    for (std::size_t a = 0; a < tested; ++a) {
+        const double lambda_squared = ascending[a] * ascending[a];
+        for (std::size_t k = 0; k < n; ++k) count[k] += lambda_squared < needed[k] ? 1.0 : 0.0;
+    }
+    destination.resize(n);
+    std::vector<std::size_t> prefix(tested + 2, 0);
+    for (std::size_t k = 0; k < n; ++k) {
+        destination[k] = static_cast<std::size_t>(count[k]);
+        ++prefix[destination[k] + 1];
+    }
+    for (std::size_t a = 1; a < prefix.size(); ++a) prefix[a] += prefix[a - 1];
+    std::vector<std::size_t> next(prefix.begin(), prefix.end() - 1);
+    for (std::size_t k = 0; k < n; ++k) destination[k] = next[destination[k]]++;
+    return prefix;
+}
+
+// to[destination[k]] = from[k] for k < destination.size(), through plain pointers so that it pipelines.
+void scatter(const std::vector<std::size_t>& destination, const std::vector<double>& from, std::vector<double>& to) {
+    const std::size_t* __restrict where = destination.data();
+    const double* __restrict source = from.data();
+    double* __restrict target = to.data();
+    for (std::size_t k = 0; k < destination.size(); ++k) target[where[k]] = source[k];
+}
+
+// First order: orders the kernels by the shortest wavelength that still reaches them, λ_k =
+// max_axis |ψ̄ + ξ3 H'_k| / reach, into `ordered` (returns prefix as first_wavelength_destinations).
+// Every kernel reaches the longest wavelength, at which it was collected; the sum applies the exact
+// cut, so the squares compared here carry a margin that errs towards keeping.
 GLINTSCOPE_OUT_OF_LINE_CLONES
 std::vector<std::size_t> order_by_first_wavelength(const GaborPointQuery& query, const gabor::KernelGrid& grid,
                                                    const std::vector<double>& ascending,
@@ -1296,7 +1339,7 @@ std::vector<std::size_t> order_by_first_wavelength(const GaborPointQuery& query,
     const Vec3 psi = query.omega_i + query.omega_o;
     const double xi3_value = xi3(query.model, query.omega_i, query.omega_o);
     const std::size_t n = collected.size();
-    thread_local std::vector<double> needed_squared;  // λ_k², less a margin that errs towards keeping
+    thread_local std::vector<double> needed_squared;  // λ_k², less the margin
     needed_squared.resize(n);
     double* __restrict needed = needed_squared.data();
     const double* __restrict slope_x = collected.slope_x.data();
@@ -1308,53 +1351,40 @@ std::vector<std::size_t> order_by_first_wavelength(const GaborPointQuery& query,
                                        std::fabs(psi.y + xi3_value * slope_y[k])) * inverse_reach;
         needed[k] = across * across * kKeep;
     }
-    if (grid.order == 2) {
-        const double* __restrict hxx = collected.curvature_xx.data();
-        const double* __restrict hxy = collected.curvature_xy.data();
-        const double* __restrict hyy = collected.curvature_yy.data();
-        const double spread_scale = grid.chirp_scale * xi3_value;
-        for (std::size_t k = 0; k < n; ++k) {
-            const double spread = spread_scale * gabor::spectral_radius(hxx[k], hxy[k], hyy[k]);
-            needed[k] -= spread * spread * (1.0 / kKeep);
-        }
-    }
-    // The wavelengths too short to reach each kernel, counted (without branches) wavelength by wavelength.
-    thread_local std::vector<double> shorter;
-    shorter.assign(n, 0.0);
-    double* __restrict count = shorter.data();
-    for (std::size_t a = 0; a + 1 < ascending.size(); ++a) {
-        const double lambda_squared = ascending[a] * ascending[a];
-        for (std::size_t k = 0; k < n; ++k) count[k] += lambda_squared < needed[k] ? 1.0 : 0.0;
-    }
     thread_local std::vector<std::size_t> destination;
-    destination.resize(n);
-    std::vector<std::size_t> prefix(ascending.size() + 1, 0);
-    for (std::size_t k = 0; k < n; ++k) {
-        destination[k] = static_cast<std::size_t>(count[k]);
-        ++prefix[destination[k] + 1];
-    }
-    for (std::size_t a = 1; a < prefix.size(); ++a) prefix[a] += prefix[a - 1];
-    std::vector<std::size_t> next(prefix.begin(), prefix.end() - 1);
-    for (std::size_t k = 0; k < n; ++k) destination[k] = next[destination[k]]++;
+    const std::vector<std::size_t> prefix =
+        first_wavelength_destinations(needed, n, ascending, ascending.size() - 1, destination);
     ordered.resize(n);
-    // Array by array through plain pointers, so that each pass pipelines.
-    const std::size_t* __restrict where = destination.data();
-    const auto scatter = [&](const std::vector<double>& from, std::vector<double>& to) {
-        const double* __restrict source = from.data();
-        double* __restrict target = to.data();
-        for (std::size_t k = 0; k < n; ++k) target[where[k]] = source[k];
-    };
-    scatter(collected.px, ordered.px);
-    scatter(collected.py, ordered.py);
-    scatter(collected.height, ordered.height);
-    scatter(collected.slope_x, ordered.slope_x);
-    scatter(collected.slope_y, ordered.slope_y);
-    scatter(collected.weight, ordered.weight);
-    if (grid.order == 2) {
-        scatter(collected.curvature_xx, ordered.curvature_xx);
-        scatter(collected.curvature_xy, ordered.curvature_xy);
-        scatter(collected.curvature_yy, ordered.curvature_yy);
-    }
+    scatter(destination, collected.px, ordered.px);
+    scatter(destination, collected.py, ordered.py);
+    scatter(destination, collected.height, ordered.height);
+    scatter(destination, collected.slope_x, ordered.slope_x);
+    scatter(destination, collected.slope_y, ordered.slope_y);
+    scatter(destination, collected.weight, ordered.weight);
+    return prefix;
+}
+
+// Second order: the kernels' wavelength-free terms (gabor::WavelengthFreeTerms) ordered by λ_k², their
+// exact cut, into `ordered` (returns prefix as first_wavelength_destinations): the prefix of a
+// wavelength is then exactly the kernels within their cut there, and its sum needs no cut of its own.
+std::vector<std::size_t> order_terms_by_first_wavelength(const GaborPointQuery& query, const gabor::KernelGrid& grid,
+                                                         const std::vector<double>& ascending,
+                                                         const gabor::KernelArrays& collected,
+                                                         gabor::WavelengthFreeTerms& ordered) {
+    thread_local gabor::WavelengthFreeTerms terms;
+    const gabor::TransformPoint at_one_micron = gabor::transform_point(
+        query.model, gabor::FresnelAtWavelength({}, 1.0), query.omega_i, query.omega_o, 1.0, 1.0);
+    gabor::wavelength_free_terms(collected, grid, at_one_micron, terms);
+    thread_local std::vector<std::size_t> destination;
+    const std::vector<std::size_t> prefix = first_wavelength_destinations(
+        terms.first_wavelength_squared.data(), collected.size(), ascending, ascending.size(), destination);
+    ordered.resize(collected.size());
+    scatter(destination, terms.length_squared, ordered.length_squared);
+    scatter(destination, terms.adjugate_form, ordered.adjugate_form);
+    scatter(destination, terms.determinant, ordered.determinant);
+    scatter(destination, terms.trace, ordered.trace);
+    scatter(destination, terms.phase, ordered.phase);
+    scatter(destination, terms.weight, ordered.weight);
     return prefix;
 }
 
@@ -1372,12 +1402,27 @@ void values_of_kernels(const GaborPointQuery& query, const gabor::KernelArrays& 
         values[0] = brdf_of_kernels(query, collected, collected.size(), wavelengths_um[0], grid, area_um2, statistics);
         return;
     }
+    // The kernels reaching wavelength λ: the prefix of those reaching the ascending wavelengths up to λ.
+    const auto reaching = [&](const std::vector<std::size_t>& prefix, double lambda) {
+        return prefix[std::upper_bound(ascending.begin(), ascending.end(), lambda) - ascending.begin()];
+    };
+    if (grid.order == 2) {
+        thread_local gabor::WavelengthFreeTerms ordered;
+        const std::vector<std::size_t> prefix = order_terms_by_first_wavelength(query, grid, ascending, collected, ordered);
+        for (std::size_t i = 0; i < wavelengths_um.size(); ++i) {
+            const double lambda = wavelengths_um[i];
+            const std::size_t end = reaching(prefix, lambda);
+            values[i] = brdf_of_sum(query, end, lambda, area_um2, statistics, [&](const gabor::TransformPoint& point) {
+                return gabor::sum_wavelength_free_terms(ordered, end, lambda, point.xi3_over_lambda, grid);
+            });
+        }
+        return;
+    }
     thread_local gabor::KernelArrays ordered;
     const std::vector<std::size_t> prefix = order_by_first_wavelength(query, grid, ascending, collected, ordered);
     for (std::size_t i = 0; i < wavelengths_um.size(); ++i) {
         const double lambda = wavelengths_um[i];
-        const auto reached = std::upper_bound(ascending.begin(), ascending.end(), lambda) - ascending.begin();
-        values[i] = brdf_of_kernels(query, ordered, prefix[reached], lambda, grid, area_um2, statistics);
+        values[i] = brdf_of_kernels(query, ordered, reaching(prefix, lambda), lambda, grid, area_um2, statistics);
     }
 }
 
