@@ -144,6 +144,7 @@ std::vector<double> Bsdf::eval_incident(const std::vector<Vec3>& omegas_i, Vec3 
     units.reserve(omegas_i.size());
     for (const Vec3 omega_i : omegas_i) units.push_back(unit_direction(omega_i, "omega_i"));
     if (state_->point.eval_incident && unit_o.z > 0.0) return state_->point.eval_incident(units, unit_o);
+    if (omegas_i.size() == 1) return eval(omegas_i[0], omega_o);  // a render's one light: its values as they are
     std::vector<double> values;
     values.reserve(omegas_i.size() * wavelengths_um().size());
     for (const Vec3 omega_i : omegas_i) {

@@ -4,6 +4,7 @@
 // unused), then called from many threads at once. A method without them, or a member left
 // empty, is answered from its own lobe images (bsdf/).
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "glintscope/core/geometry.hpp"
@@ -47,6 +48,9 @@ struct PointAnswers {
     // direction, for a method that shares work across the directions (a renderer's lights at one
     // shading point); empty: the BSDF calls eval per direction.
     std::function<std::vector<double>(const std::vector<Vec3>& omegas_i, Vec3 omega_o)> eval_incident = nullptr;
+    // What the members above may point into without owning it (kept alive with them), so that
+    // their captures stay small enough to be stored inside the std::function.
+    std::shared_ptr<const void> owner = nullptr;
 };
 
 // The supersampling of the albedo's quadrature of a point query's eval (bsdf.hpp).

@@ -6,6 +6,7 @@
 #include <string>
 
 #include <memory>
+#include <utility>
 #include <optional>
 
 #include "normal_density/microfacet_answers.hpp"
@@ -306,25 +307,40 @@ PointAnswersAt geometric_point_field(const LobeQuery& query) {
     const NormalDensitySettings density = table_density_settings(query, settings, resolution);
     auto tree = std::make_shared<const NormalBoundsTree>(
         make_normal_bounds_tree(ndf_surface(query, settings), density, resolution));
-    const std::vector<ComplexIndex> indices = refractive_indices(query);
+    auto indices = std::make_shared<const std::vector<ComplexIndex>>(refractive_indices(query));
     const std::size_t layers = query.wavelengths_um.size();
+    // One allocation per footprint: the answers point into it (a pointer is stored inside a
+    // std::function, a shared_ptr would be allocated again for each) and `owner` keeps it.
+    struct OneFootprint {
+        OneFootprint(std::shared_ptr<const NormalBoundsTree> tree_in, std::shared_ptr<const std::vector<ComplexIndex>> indices_in,
+                     std::size_t layers_in, const Footprint& footprint_in)
+            : tree(std::move(tree_in)), indices(std::move(indices_in)), layers(layers_in), footprint(footprint_in),
+              normals(tree, footprint) {}
+        std::shared_ptr<const NormalBoundsTree> tree;
+        std::shared_ptr<const std::vector<ComplexIndex>> indices;
+        std::size_t layers;
+        Footprint footprint;
+        LazyNormalSampler normals;
+    };
     return [tree, indices, layers](const Footprint& footprint) -> PointAnswers {
+        const auto one = std::make_shared<const OneFootprint>(tree, indices, layers, footprint);
+        const OneFootprint* const at = one.get();
         PointAnswers answers;
-        answers.eval = [tree, indices, layers, footprint](Vec3 omega_i, Vec3 omega_o) {
+        answers.owner = one;
+        answers.eval = [at](Vec3 omega_i, Vec3 omega_o) {
             const Vec3 h = normalize(omega_i + omega_o);
-            return microfacet_value(point_normal_density(*tree, footprint, {h.x, h.y}), 1.0, omega_i, omega_o, h, indices,
-                                    layers);
+            return microfacet_value(point_normal_density(*at->tree, at->footprint, {h.x, h.y}), 1.0, omega_i, omega_o, h,
+                                    *at->indices, at->layers);
         };
-        if (tree->intrinsic_roughness > 0.0) return answers;
-        auto normals = std::make_shared<const LazyNormalSampler>(tree, footprint);
-        answers.sample = [normals](Vec3 omega_i, double u1, double u2) -> DirectionSample {
-            const std::optional<NormalDraw> h = normals->draw(u1, u2);
+        if (at->tree->intrinsic_roughness > 0.0) return answers;
+        answers.sample = [at](Vec3 omega_i, double u1, double u2) -> DirectionSample {
+            const std::optional<NormalDraw> h = at->normals.draw(u1, u2);
             if (!h) return {};
             return reflected_sample(omega_i, h->normal, h->density);
         };
-        answers.pdf = [normals](Vec3 omega_i, Vec3 omega_o) {
+        answers.pdf = [at](Vec3 omega_i, Vec3 omega_o) {
             const Vec3 h = normalize(omega_i + omega_o);
-            return reflection_pdf(normals->density({h.x, h.y}), h, omega_o);
+            return reflection_pdf(at->normals.density({h.x, h.y}), h, omega_o);
         };
         return answers;
     };

@@ -162,7 +162,9 @@ TEST(GeometricPointField, SamplesFollowItsPdfAndTheMeanWeightIsTheAlbedo) {
         const std::vector<long> observed = chi_square.histogram(testing::Grid::half_vector, omega_i, [&](long k) -> std::optional<Vec3> {
             const DirectionSample s = paraboloid.sample(omega_i, rng.uniform(2 * k), rng.uniform(2 * k + 1));
             if (!(s.pdf > 0.0)) return std::nullopt;
-            if (k % 1000 == 0) EXPECT_NEAR(s.pdf, paraboloid.pdf(omega_i, s.direction), 1e-9 * s.pdf);
+            if (k % 1000 == 0) {
+                EXPECT_NEAR(s.pdf, paraboloid.pdf(omega_i, s.direction), 1e-9 * s.pdf);
+            }
             return s.direction;
         });
         const auto expected = chi_square.expected_probabilities(testing::Grid::half_vector, omega_i,
