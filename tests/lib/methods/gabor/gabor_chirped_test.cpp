@@ -236,6 +236,18 @@ TEST(ChirpedGaborSurface, SpectralQueryEqualsSingleWavelengthQueries) {
         }
 }
 
+// A point query with ω_i at 20° and a σ_c = 10 µm footprint at a random centre of `field`, every
+// fourth trial 5 µm from its lower edge, so that the footprint crosses the seam; ω_o is the caller's.
+GaborPointQuery query_at_random_footprint(const Heightfield& field, int trial, std::mt19937& random) {
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    GaborPointQuery point;
+    point.footprint.sigma_um = 10.0;
+    const double y = trial % 4 == 0 ? 5.0 : field.height_um() * uniform(random);
+    point.footprint.centre_um = {field.width_um() * uniform(random), y};
+    point.omega_i = direction_from_spherical(20.0 * pi / 180.0, 0.0);
+    return point;
+}
+
 // At one kernel per texel a point query tests every kernel against its own chirped reach (the
 // sum's cut, reach·√(1 + ε²) per axis, ε = 2πσ² ξ3 ρ(H'')/λ) in float, with margins for the
 // float rounding: it must keep every kernel the sum keeps (f_r equals the sum over all the
@@ -259,11 +271,7 @@ TEST(ChirpedGaborSurface, PruningKeepsExactlyTheKernelsWithinTheirOwnReach) {
         std::size_t summed = 0;
         std::size_t within = 0;
         for (int trial = 0; trial < 24; ++trial) {
-            GaborPointQuery point;
-            point.footprint.sigma_um = 10.0;
-            const double y = trial % 4 == 0 ? 5.0 : field.height_um() * uniform(random);  // 5 µm: across the seam
-            point.footprint.centre_um = {field.width_um() * uniform(random), y};
-            point.omega_i = direction_from_spherical(20.0 * pi / 180.0, 0.0);
+            GaborPointQuery point = query_at_random_footprint(field, trial, random);
             const double r = std::sqrt(uniform(random));
             const double phi = 2.0 * pi * uniform(random);
             point.omega_o = direction_from_disk(r * std::cos(phi), r * std::sin(phi));
@@ -324,11 +332,7 @@ TEST(ChirpedGaborSurface, SpectralPrefixesAreExactlyTheKernelsWithinTheirCut) {
         std::size_t summed = 0;
         std::size_t within = 0;
         for (int trial = 0; trial < 12; ++trial) {
-            GaborPointQuery point;
-            point.footprint.sigma_um = 10.0;
-            const double y = trial % 4 == 0 ? 5.0 : field.height_um() * uniform(random);  // 5 µm: across the seam
-            point.footprint.centre_um = {field.width_um() * uniform(random), y};
-            point.omega_i = direction_from_spherical(20.0 * pi / 180.0, 0.0);
+            GaborPointQuery point = query_at_random_footprint(field, trial, random);
             // Within ±0.3 per axis of the mirror direction on the disk (the lobe: twice the rms slope),
             // where many kernels reach some wavelengths and not others.
             point.omega_o = direction_from_disk(-point.omega_i.x + 0.6 * (uniform(random) - 0.5),
