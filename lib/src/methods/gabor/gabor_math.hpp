@@ -77,30 +77,45 @@ template <typename T>
 }
 
 using Double4 = double __attribute__((vector_size(32)));
+using Double8 = double __attribute__((vector_size(64)));  // AVX-512 (core/target_clones.hpp)
 
-// Σ over kernels [begin, end) four per step in SIMD lanes: add(i, a, b, c) adds the terms of
-// kernels i… to the sums a, b, c (double or Double4; a caller may leave some unused). Each lane
-// sums a fixed subset of the kernels, so the result depends only on the kernel order. The last
-// 1–3 kernels take the upper lanes of the four that end at `end`, whose lower lanes (the kernels
-// before them in the arrays, which hold [0, end)) are computed and left out; only when end < 4
-// are they added one by one.
-template <typename Add>
+template <typename V>
+inline constexpr std::size_t kLanes = sizeof(V) / sizeof(double);
+
+// The lanes' sum, pairwise: ((0 + 1) + (2 + 3)) for four, and the two halves' so for eight.
+template <typename V>
+[[gnu::always_inline]] inline double lane_total(const V& v) {
+    if constexpr (kLanes<V> == 4) {
+        return (v[0] + v[1]) + (v[2] + v[3]);
+    } else {
+        return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]));
+    }
+}
+
+// Σ over kernels [begin, end) kLanes<V> per step in SIMD lanes (V: Double4 or Double8):
+// add(i, a, b, c) adds the terms of kernels i… to the sums a, b, c (double or V; a caller may
+// leave some unused). Each lane sums a fixed subset of the kernels, so the result depends only on
+// the kernel order and V. The last kernels that fill no whole step take the upper lanes of the
+// step that ends at `end`, whose lower lanes (the kernels before them in the arrays, which hold
+// [0, end)) are computed and left out; only when end is shorter than a step are they added one by one.
+template <typename V = Double4, typename Add>
 [[gnu::always_inline]] inline void sum_in_lanes(std::size_t begin, std::size_t end, const Add& add, double& out_a,
                                                 double& out_b, double& out_c) {
-    Double4 a4 = {0.0, 0.0, 0.0, 0.0};
-    Double4 b4 = a4;
-    Double4 c4 = a4;
+    constexpr std::size_t n = kLanes<V>;
+    V a_lanes = V{} + 0.0;
+    V b_lanes = a_lanes;
+    V c_lanes = a_lanes;
     std::size_t i = begin;
-    for (; i + 4 <= end; i += 4) add(i, a4, b4, c4);
+    for (; i + n <= end; i += n) add(i, a_lanes, b_lanes, c_lanes);
     double a = 0.0;
     double b = 0.0;
     double c = 0.0;
-    if (i < end && end >= 4) {
-        Double4 tail_a = {0.0, 0.0, 0.0, 0.0};
-        Double4 tail_b = tail_a;
-        Double4 tail_c = tail_a;
-        add(end - 4, tail_a, tail_b, tail_c);
-        for (std::size_t lane = i + 4 - end; lane < 4; ++lane) {
+    if (i < end && end >= n) {
+        V tail_a = V{} + 0.0;
+        V tail_b = tail_a;
+        V tail_c = tail_a;
+        add(end - n, tail_a, tail_b, tail_c);
+        for (std::size_t lane = i + n - end; lane < n; ++lane) {
             a += tail_a[lane];
             b += tail_b[lane];
             c += tail_c[lane];
@@ -108,9 +123,9 @@ template <typename Add>
     } else {
         for (; i < end; ++i) add(i, a, b, c);
     }
-    out_a = ((a4[0] + a4[1]) + (a4[2] + a4[3])) + a;
-    out_b = ((b4[0] + b4[1]) + (b4[2] + b4[3])) + b;
-    out_c = ((c4[0] + c4[1]) + (c4[2] + c4[3])) + c;
+    out_a = lane_total(a_lanes) + a;
+    out_b = lane_total(b_lanes) + b;
+    out_c = lane_total(c_lanes) + c;
 }
 
 }  // namespace glintscope::gabor_math
