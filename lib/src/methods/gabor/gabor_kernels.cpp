@@ -74,7 +74,7 @@ template <typename T>
     sum_im -= kept * sin_phase;
 }
 
-__attribute__((target_clones("arch=x86-64-v3", "default")))
+GLINTSCOPE_OUT_OF_LINE_CLONES_V4
 void sum_kernel_terms(const KernelArrays& k, std::size_t begin, std::size_t end, const TransformPoint& point,
                       double reach, double beta, double& out_re, double& out_im) {
     const double reach2 = reach * reach;
@@ -199,7 +199,7 @@ template <bool WithDensity, bool SlopeFactor>
     }
 }
 
-__attribute__((target_clones("arch=x86-64-v3", "default")))
+GLINTSCOPE_OUT_OF_LINE_CLONES_V4
 void sum_prepared_chirped_terms(const KernelArrays& k, const ChirpFactors& c, const KernelRun* runs,
                                 std::size_t run_count, const TransformPoint& point, double& out_re, double& out_im) {
     double unused = 0.0;
@@ -209,7 +209,7 @@ void sum_prepared_chirped_terms(const KernelArrays& k, const ChirpFactors& c, co
         sum_prepared_terms<false, true>(k, c, nullptr, 0.0, runs, run_count, point, out_re, out_im, unused);
 }
 
-__attribute__((target_clones("arch=x86-64-v3", "default")))
+GLINTSCOPE_OUT_OF_LINE_CLONES_V4
 void sum_prepared_chirped_terms_and_density(const KernelArrays& k, const ChirpFactors& c, const double* norm,
                                             double density_cut, const KernelRun* runs, std::size_t run_count,
                                             const TransformPoint& point, double& out_re, double& out_im,
@@ -357,7 +357,7 @@ template <bool SlopeFactor>
 
 // Compiled without ξ2's slope terms where it is 1 (every model but Kirchhoff): two multiply-adds and
 // two registers per step fewer, the same sums bit for bit.
-__attribute__((target_clones("arch=x86-64-v3", "default")))
+GLINTSCOPE_OUT_OF_LINE_CLONES_V4
 void sum_chirped_terms(const KernelArrays& k, std::size_t begin, std::size_t end, const TransformPoint& point,
                        double reach, double beta, double chirp_scale, double& out_re, double& out_im) {
     if (point.xi2_gx == 0.0 && point.xi2_gy == 0.0)
