@@ -111,36 +111,76 @@ TEST(ChirpedGaborKernel, ParaboloidIsRepresentedExactlyByOneKernel) {
 
 // The kernel sum's second-order term (gabor_kernels.cpp, SIMD lanes and scalar tail) equals the
 // literal C_k F[g_k](v) up to the common phase it drops.
-TEST(ChirpedGaborKernel, SummedTermEqualsLiteralTransform) {
-    const SurfacePoint at_centre{0.37, 0.21, -0.14};
-    const SurfaceCurvature curvature{0.8, -0.3, 0.5};
-    const Point2 centre{13.25, -7.75};
-    const Point2 x_c{10.0, -5.0};
-    const double reference_height = 0.05, cell = 0.5, lambda = 0.45, xi3 = 1.8;
-    GaborSettings settings;
-    settings.kernels_per_texel = 2;
-    settings.kernel_sigmas = 5.0;
-    settings.order = 2;
-    const gabor::KernelGrid grid = gabor::kernel_grid(1.0, settings);
-    gabor::KernelArrays kernels;
-    kernels.reserve_more(5);
-    for (int k = 0; k < 5; ++k) {  // four in SIMD lanes, one in the scalar tail
-        kernels.push(centre.x - x_c.x, centre.y - x_c.y, at_centre, reference_height, cell * cell);
-        kernels.set_curvature(k, curvature);
+// One second-order kernel (K = 2, cut at 5σ), repeated: the sums' kernel arrays against the literal
+// transform of the chirped Gabor kernel.
+struct RepeatedKernel {
+    SurfacePoint at_centre{0.37, 0.21, -0.14};
+    SurfaceCurvature curvature{0.8, -0.3, 0.5};
+    Point2 centre{13.25, -7.75};
+    Point2 x_c{10.0, -5.0};  // the footprint centre the arrays measure from
+    double reference_height = 0.05, cell = 0.5, xi3 = 1.8;
+
+    gabor::KernelGrid grid() const {
+        GaborSettings settings;
+        settings.kernels_per_texel = 2;
+        settings.kernel_sigmas = 5.0;
+        settings.order = 2;
+        return gabor::kernel_grid(1.0, settings);
     }
-    const GaborCellKernel literal = gabor_cell_kernel(centre, cell, at_centre, curvature, 1.0, xi3, lambda);
+    gabor::KernelArrays copies(int count) const {
+        gabor::KernelArrays kernels;
+        kernels.reserve_more(static_cast<std::size_t>(count));
+        for (int k = 0; k < count; ++k) {
+            kernels.push(centre.x - x_c.x, centre.y - x_c.y, at_centre, reference_height, cell * cell);
+            kernels.set_curvature(k, curvature);
+        }
+        return kernels;
+    }
+    // The kernel's literal term at v, as the sums give it: measured from x_c and H_ref.
+    Complex literal(Point2 v, double lambda) const {
+        const GaborCellKernel kernel = gabor_cell_kernel(centre, cell, at_centre, curvature, 1.0, xi3, lambda);
+        const double common = 2.0 * pi * (x_c.x * v.x + x_c.y * v.y + xi3 * reference_height / lambda);
+        return kernel.coefficient * gabor_kernel_transform(kernel.kernel, v) / Complex(std::cos(common), -std::sin(common));
+    }
+};
+
+TEST(ChirpedGaborKernel, SummedTermEqualsLiteralTransform) {
+    const RepeatedKernel one;
+    const double lambda = 0.45;
+    const gabor::KernelGrid grid = one.grid();
+    const gabor::KernelArrays kernels = one.copies(5);  // four in SIMD lanes, one in the scalar tail
     for (const Point2 v : {Point2{-0.9, 0.5}, Point2{-0.6, 0.2}, Point2{0.4, 0.1}}) {
-        const Complex expected = literal.coefficient * gabor_kernel_transform(literal.kernel, v);
+        const Complex expected = one.literal(v, lambda);
         gabor::TransformPoint point;
         point.vx = v.x;
         point.vy = v.y;
-        point.xi3_over_lambda = xi3 / lambda;
-        const double common = 2.0 * pi * (x_c.x * v.x + x_c.y * v.y + xi3 * reference_height / lambda);
-        const Complex phase(std::cos(common), -std::sin(common));
-        EXPECT_LT(std::abs(gabor::sum_transforms(kernels, 0, 4, point, grid) * phase - 4.0 * expected),
-                  4e-9 * std::abs(expected));
-        EXPECT_LT(std::abs(gabor::sum_transforms(kernels, 4, 5, point, grid) * phase - expected),
-                  1e-9 * std::abs(expected));
+        point.xi3_over_lambda = one.xi3 / lambda;
+        EXPECT_LT(std::abs(gabor::sum_transforms(kernels, 0, 4, point, grid) - 4.0 * expected), 4e-9 * std::abs(expected));
+        EXPECT_LT(std::abs(gabor::sum_transforms(kernels, 4, 5, point, grid) - expected), 1e-9 * std::abs(expected));
+    }
+}
+
+// The spectral sum (wavelength-free terms, summed per wavelength in four or, with AVX-512, eight
+// SIMD lanes) against the same literal transform: 11 equal kernels fill whole steps of either width
+// and leave a tail, 6 and 3 are fewer than a step of eight (one by one, or a step of four and a tail).
+TEST(ChirpedGaborKernel, SpectralSumEqualsLiteralTransform) {
+    const RepeatedKernel one;
+    const gabor::KernelGrid grid = one.grid();
+    const gabor::KernelArrays kernels = one.copies(11);
+    const Point2 psi{-0.3, 0.1};  // ψ̄: v = ψ̄/λ at each wavelength
+    gabor::TransformPoint at_one_micron;
+    at_one_micron.vx = psi.x;
+    at_one_micron.vy = psi.y;
+    at_one_micron.xi3_over_lambda = one.xi3;
+    gabor::WavelengthFreeTerms terms;
+    gabor::wavelength_free_terms(kernels, grid, at_one_micron, terms);
+    for (const double lambda : {0.45, 0.6}) {
+        const Complex expected = one.literal({psi.x / lambda, psi.y / lambda}, lambda);
+        for (const std::size_t count : {11u, 6u, 3u}) {
+            const Complex sum = gabor::sum_wavelength_free_terms(terms, count, lambda, one.xi3 / lambda, grid);
+            EXPECT_LT(std::abs(sum - double(count) * expected), 1e-8 * double(count) * std::abs(expected))
+                << "lambda " << lambda << ", " << count << " kernels";
+        }
     }
 }
 
