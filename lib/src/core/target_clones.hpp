@@ -12,7 +12,8 @@
 
 // The same with an AVX-512 (x86-64-v4) clone too, of the same four-lane source: with its 32 vector
 // registers the Gabor sums keep their exp and sincos polynomials' constants in registers instead
-// of reloading them from the stack (BM_BsdfEval/gabor about a tenth faster on a Xeon).
+// of reloading them from the stack (BM_BsdfEval/gabor and the one-off point queries 2–7% faster
+// on a Xeon, by the median of paired runs: docs/performance.md "AVX-512 for the Gabor sums").
 #if defined(__clang__)
 #define GLINTSCOPE_OUT_OF_LINE_CLONES_V4 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else

@@ -279,7 +279,7 @@ void sum_wavelength_free(const WavelengthFreeTerms& t, std::size_t end, const Wa
     sum_wavelength_free_in_lanes<Double4>(t, end, scales, out_re, out_im);
 }
 
-// Eight lanes where the CPU has AVX-512: 8-bin spectral renders 12% faster on a Xeon (docs/performance.md).
+// Eight lanes where the CPU has AVX-512: 8-bin spectral renders 12–23% faster on a Xeon (docs/performance.md).
 // The one-wavelength sums stay at four lanes, where eight measured no faster: their runs are shorter
 // and the walk between them runs 256-bit code.
 GLINTSCOPE_AVX512
