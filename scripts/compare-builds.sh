@@ -11,11 +11,12 @@
 # `mkdir a && cp -L build/lib/libglintscope.so.0.1 a/`); the benchmark and the app are this
 # checkout's build/, which load the library through LD_LIBRARY_PATH. bench: FILTER should select
 # one benchmark; each run takes --benchmark_min_time=0.3, and the order of A and B alternates per
-# round. render: the user seconds of `glintscope --threads 1 render RENDER_ARGS -o TMP.exr`.
+# round. render: the user seconds of `glintscope --threads 1 render RENDER_ARGS -o TMP.exr` (a
+# light sweep's `--png X` in RENDER_ARGS becomes a temporary PNG of each build's own).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 5 ]; then
-    sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//' >&2
+    sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//' >&2
     exit 2
 fi
 a=$1 b=$2 rounds=$3 mode=$4
@@ -31,9 +32,18 @@ bench_time() {  # the first selected benchmark's CPU time with the library in $1
     LD_LIBRARY_PATH=$1 build/bench/glintscope_bench --benchmark_filter="$filter" --benchmark_min_time=0.3 \
         2>/dev/null | awk '/^BM_/ {print $4; exit}'
 }
-render_time() {  # user seconds of the render with the library in $1, its output in $2
-    LD_LIBRARY_PATH=$1 /usr/bin/time -f '%U' build/app/glintscope --threads 1 render "${render_args[@]}" \
-        -o "$2" 2>&1 >/dev/null | tail -1
+render_time() {  # user seconds of the render with the library in $1, its output in $2; its error if it fails
+    local args=() previous=
+    for arg in "${render_args[@]}"; do  # each build's own --png (a light sweep's frames and video)
+        if [ "$previous" = --png ]; then args+=("$2.png"); else args+=("$arg"); fi
+        previous=$arg
+    done
+    if ! LD_LIBRARY_PATH=$1 /usr/bin/time -f '%U' -o "$2.time" build/app/glintscope --threads 1 render \
+        "${args[@]}" -o "$2" >/dev/null 2>"$2.err"; then
+        echo "compare-builds: the render with $1 failed: $(tail -1 "$2.err")" >&2
+        return 1
+    fi
+    tail -1 "$2.time"
 }
 
 case "$mode" in
@@ -48,8 +58,13 @@ case "$mode" in
         render_args=("$@")
         for ((round = 1; round <= rounds; ++round)); do
             render_time "$a" "$work/a.exr" >"$work/x" &
+            first=$!
             render_time "$b" "$work/b.exr" >"$work/y" &
-            wait
+            second=$!
+            status=0
+            wait "$first" || status=1
+            wait "$second" || status=1
+            [ "$status" = 0 ] || exit 1
             echo "$(cat "$work/x") $(cat "$work/y")"
         done >"$work/pairs"
         ;;

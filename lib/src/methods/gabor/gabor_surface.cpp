@@ -542,17 +542,26 @@ struct KernelLanes {
     return k;
 }
 
+// A leaf's eight kernels, columns c0 … c0 + 7, as two halves of four lanes.
+struct LeafKernels {
+    KernelLanes half[2];
+};
+
+[[gnu::always_inline]] inline LeafKernels leaf_kernels(const SampledRow& r, int c0, const SampleStencil& s,
+                                                       bool chirped) {
+    return {{kernel_lanes(r, c0, 0, s, chirped), kernel_lanes(r, c0, 1, s, chirped)}};
+}
+
 // Writes the kernels of the lanes whose bits are set (bit k: column c0 + k) to slots[at …], in
-// column order, and returns how many; writes up to kLeafKernels slots. Four lanes are computed at
+// column order, and returns how many; writes up to kLeafKernels slots. Four lanes are stored at
 // a time and the kept ones moved to the front of each array's store, so no branch depends on
 // which pass.
-[[gnu::always_inline]] inline std::size_t write_lanes(const SampledRow& r, int c0, unsigned bits,
-                                                      const SampleStencil& s, bool chirped, const KernelSlots& slots,
-                                                      std::size_t at) {
+[[gnu::always_inline]] inline std::size_t write_lanes(const SampledRow& r, const LeafKernels& leaf, unsigned bits,
+                                                      bool chirped, const KernelSlots& slots, std::size_t at) {
     const std::size_t first = at;
     for (int half = 0; half < 2; ++half) {
         const unsigned set = bits >> (4 * half) & 0xFu;
-        const KernelLanes k = kernel_lanes(r, c0, half, s, chirped);
+        const KernelLanes& k = leaf.half[half];
         store_set_lanes(k.px, set, slots.px + at);
         store_set_lanes(Double4{} + r.py, set, slots.py + at);
         store_set_lanes(k.height, set, slots.height + at);
@@ -592,7 +601,7 @@ template <typename Passes>
         const int c0 = passing[k].c0;
         const SampleStencil samples =
             sample_stencil(r.below, r.row, r.above, c0, std::min(kLeafKernels, r.cols - c0), r.cols, chirped);
-        count += write_lanes(r, c0, passing[k].bits, samples, chirped, slots, count);
+        count += write_lanes(r, leaf_kernels(r, c0, samples, chirped), passing[k].bits, chirped, slots, count);
     }
     kernels.extend(count);
     return count;
@@ -621,13 +630,22 @@ std::size_t append_row_survivors(const SampledRow& row, const std::uint64_t* lea
     std::array<KernelSlots, kMaxAims> slots;
     std::array<std::size_t, kMaxAims> counts{};
     for (std::size_t a = 0; a < aim_count; ++a) slots[a] = reserve_slots(*aims[a].kernels, row.leaf_count * kLeafKernels);
+    // The leaf's kernels are computed once, when the first aim keeps one of them, and written for
+    // every aim that keeps some.
     const auto test_leaf = [&](const SampledRow& r, std::size_t leaf, int c0, unsigned chord, const SampleLanes& lanes) {
+        LeafKernels kernels;
+        bool computed = false;
         for (std::uint64_t left = leaf_aims[leaf]; left != 0; left &= left - 1) {
             const int a = std::countr_zero(left);
             const RowTest& test = aims[a].row_test;
             const unsigned bits =
                 chord & (test.chirped ? chirped_within(lanes, *test.chirped) : differences_within(lanes, test.bounds));
-            if (bits != 0) counts[a] += write_lanes(r, c0, bits, lanes.samples, r.chirped, slots[a], counts[a]);
+            if (bits == 0) continue;
+            if (!computed) {
+                kernels = leaf_kernels(r, c0, lanes.samples, r.chirped);
+                computed = true;
+            }
+            counts[a] += write_lanes(r, kernels, bits, r.chirped, slots[a], counts[a]);
         }
     };
     for_each_leaf_in_chord(row, row.chirped, test_leaf);
