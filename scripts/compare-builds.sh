@@ -14,13 +14,13 @@
 # round. render: the user seconds of `glintscope --threads 1 render RENDER_ARGS -o TMP.exr` (a
 # light sweep's `--png X` in RENDER_ARGS becomes a temporary PNG of each build's own).
 set -euo pipefail
-cd "$(dirname "$0")/.."
 if [ $# -lt 5 ]; then
     sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//' >&2
     exit 2
 fi
-a=$1 b=$2 rounds=$3 mode=$4
+a=$(realpath -m "$1") b=$(realpath -m "$2") rounds=$3 mode=$4  # absolute: the script runs from the checkout
 shift 4
+cd "$(dirname "$0")/.."
 for dir in "$a" "$b"; do
     [ -e "$dir/libglintscope.so.0.1" ] || { echo "compare-builds: no libglintscope.so.0.1 in $dir" >&2; exit 2; }
 done

@@ -1,25 +1,23 @@
 #pragma once
 
-// AVX2/FMA (x86-64-v3) and portable clones of a hot function, chosen once at load time by the
-// CPU: the library stays portable and a modern CPU runs the wide code. The clones must stay out
-// of line (GCC would otherwise inline the portable clone into its caller); Clang never inlines a
+// Clones of a hot function for the given targets, chosen once at load time by the CPU: the
+// library stays portable and a modern CPU runs the wide code. The clones must stay out of line
+// (GCC would otherwise inline the portable clone into its caller); Clang never inlines a
 // multiversioned function and refuses noinline beside target_clones.
 #if defined(__clang__)
-#define GLINTSCOPE_OUT_OF_LINE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define GLINTSCOPE_CLONES_FOR(...) __attribute__((target_clones(__VA_ARGS__)))
 #else
-#define GLINTSCOPE_OUT_OF_LINE_CLONES [[gnu::noinline]] __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define GLINTSCOPE_CLONES_FOR(...) [[gnu::noinline]] __attribute__((target_clones(__VA_ARGS__)))
 #endif
+
+// AVX2/FMA (x86-64-v3) and portable clones.
+#define GLINTSCOPE_OUT_OF_LINE_CLONES GLINTSCOPE_CLONES_FOR("arch=x86-64-v3", "default")
 
 // The same with an AVX-512 (x86-64-v4) clone too, of the same four-lane source: with its 32 vector
 // registers the Gabor sums keep their exp and sincos polynomials' constants in registers instead
 // of reloading them from the stack (BM_BsdfEval/gabor and the one-off point queries 2–7% faster
 // on a Xeon, by the median of paired runs: docs/performance.md "AVX-512 for the Gabor sums").
-#if defined(__clang__)
-#define GLINTSCOPE_OUT_OF_LINE_CLONES_V4 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define GLINTSCOPE_OUT_OF_LINE_CLONES_V4 \
-    [[gnu::noinline]] __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#endif
+#define GLINTSCOPE_OUT_OF_LINE_CLONES_V4 GLINTSCOPE_CLONES_FOR("arch=x86-64-v4", "arch=x86-64-v3", "default")
 
 // A wider clone for CPUs with AVX-512 (x86-64-v4: F, VL, DQ, BW, CD), called where
 // cpu_runs_avx512() says so. Kept apart from the clones above because its code is written for
