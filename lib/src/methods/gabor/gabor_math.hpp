@@ -22,24 +22,23 @@ template <typename T>
 // Each function is a template over double and GCC vector types of double (vector_size), whose
 // arithmetic is elementwise with scalars broadcast.
 
-// exp(−x) for 0 ≤ x ≤ 25 as exp(−x/32)^32: a degree-12 Taylor polynomial in −x/32, then five
-// squarings (each doubles the relative error). Relative error < 1e-12 for x ≤ 16, < 5e-10 for
-// x ≤ 25; the kernel sums only use x ≤ (kernel truncation)².
+// exp(−x) for 0 ≤ x ≤ 25 as exp(−x/32)^32: a degree-9 polynomial 1 + y g(y) in y = −x/32 (g fitted to
+// (e^y − 1)/y on [−25/32, 0] by Chebyshev interpolation, relative error < 3e-13, exact at 0), then
+// five squarings (each doubles the relative error): < 1e-11 over the range. The kernel sums only
+// use x ≤ (kernel truncation)². Three multiply-adds fewer than the Taylor polynomial it replaced,
+// which was 50× less accurate at x = 25.
 template <typename T>
 [[gnu::always_inline]] inline T exp_neg(T x) {
     const T y = x * (-1.0 / 32.0);
-    T p = y * (1.0 / 479001600.0) + 1.0 / 39916800.0;
-    p = p * y + 1.0 / 3628800.0;
-    p = p * y + 1.0 / 362880.0;
-    p = p * y + 1.0 / 40320.0;
-    p = p * y + 1.0 / 5040.0;
-    p = p * y + 1.0 / 720.0;
-    p = p * y + 1.0 / 120.0;
-    p = p * y + 1.0 / 24.0;
-    p = p * y + 1.0 / 6.0;
-    p = p * y + 0.5;
-    p = p * y + 1.0;
-    p = p * y + 1.0;
+    T g = y * 1.946155389285314e-06 + 2.3687673765400804e-05;
+    g = g * y + 0.00019755951815544144;
+    g = g * y + 0.001388503026176915;
+    g = g * y + 0.008333230133136577;
+    g = g * y + 0.04166665110008082;
+    g = g * y + 0.1666666654872725;
+    g = g * y + 0.4999999999655262;
+    g = g * y + 0.9999999999998338;
+    T p = g * y + 1.0;
     p *= p;
     p *= p;
     p *= p;
@@ -49,27 +48,26 @@ template <typename T>
 
 // cos(2πt) and sin(2πt) for any t with |t| < 2^51: t is reduced to r ∈ [−1/2, 1/2] by
 // subtracting the nearest integer (adding and subtracting 1.5·2^52 rounds to nearest without a
-// libm call), θ = 2πr/4 ∈ [−π/4, π/4] goes through Taylor polynomials (error < 3e-14), and two
-// angle doublings give 2πr.
+// libm call), θ = 2πr/4 ∈ [−π/4, π/4] goes through polynomials in q = θ², sin θ = θ(1 + q g_s(q))
+// and cos θ = 1 + q g_c(q) (g fitted by Chebyshev interpolation on [0, (π/4)²]: relative error
+// < 2e-14 and < 3e-16), and two angle doublings give 2πr.
 template <typename T>
 [[gnu::always_inline]] inline void cos_sin_turns(T t, T& cos_out, T& sin_out) {
     constexpr double kRoundingShift = 6755399441055744.0;  // 1.5 · 2^52
     const T r = t - ((t + kRoundingShift) - kRoundingShift);
     const T theta = r * 1.5707963267948966;  // 2π/4
     const T q = theta * theta;
-    T s = q * (-1.0 / 6227020800.0) + 1.0 / 39916800.0;  // sin: odd terms up to θ^13
-    s = s * q - 1.0 / 362880.0;
-    s = s * q + 1.0 / 5040.0;
-    s = s * q - 1.0 / 120.0;
-    s = s * q + 1.0 / 6.0;
-    s = theta - theta * q * s;
-    T c = q * (1.0 / 87178291200.0) - 1.0 / 479001600.0;  // cos: even terms up to θ^14
-    c = c * q + 1.0 / 3628800.0;
-    c = c * q - 1.0 / 40320.0;
-    c = c * q + 1.0 / 720.0;
-    c = c * q - 1.0 / 24.0;
-    c = c * q + 0.5;
-    c = 1.0 - q * c;
+    T s = q * -2.4805636241834762e-08 + 2.755599092956532e-06;
+    s = s * q - 0.00019841266916985966;
+    s = s * q + 0.008333333331079223;
+    s = s * q - 0.16666666666663885;
+    s = theta + theta * q * s;
+    T c = q * 2.066550487012274e-09 - 2.755585551192951e-07;
+    c = c * q + 2.480158262335195e-05;
+    c = c * q - 0.0013888888882127952;
+    c = c * q + 0.04166666666663093;
+    c = c * q - 0.49999999999999967;
+    c = 1.0 + q * c;
     const T s2 = 2.0 * s * c;  // 2θ
     const T c2 = (c - s) * (c + s);
     sin_out = 2.0 * s2 * c2;  // 4θ = 2πr
