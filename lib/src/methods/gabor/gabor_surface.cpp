@@ -1309,44 +1309,77 @@ double brdf_of_kernels(const GaborPointQuery& query, const gabor::KernelArrays& 
     });
 }
 
-// The destinations that order kernels by the shortest wavelength that reaches them, so that each
-// wavelength sums a prefix: kernel k reaches ascending[a] when ascending[a]² ≥ needed[k]. Counts
-// (without branches, wavelength by wavelength, so that the loop vectorises) the first `tested`
-// wavelengths too short for each kernel; returns prefix: the kernels reaching ascending[a] go to
-// [0, prefix[a + 1]) (those reaching none of the tested wavelengths after prefix[tested]).
+// The class of each kernel: how many of the first `tested` ascending wavelengths are too short
+// for it (ascending[a]² < needed[k]). Up to eight wavelengths are compared in registers, in one
+// vectorised pass; more take one pass each.
 GLINTSCOPE_OUT_OF_LINE_CLONES
-std::vector<std::size_t> first_wavelength_destinations(const double* __restrict needed, std::size_t n,
-                                                       const std::vector<double>& ascending, std::size_t tested,
-                                                       std::vector<std::size_t>& destination) {
-    thread_local std::vector<double> shorter;
-    shorter.assign(n, 0.0);
-    double* __restrict count = shorter.data();
+void classify_by_first_wavelength(const double* __restrict needed, std::size_t n, const std::vector<double>& ascending,
+                                  std::size_t tested, std::int64_t* __restrict classes) {
+    constexpr std::size_t kInRegisters = 8;
+    if (tested <= kInRegisters) {
+        std::array<double, kInRegisters> squared;
+        for (std::size_t a = 0; a < kInRegisters; ++a)
+            squared[a] = a < tested ? ascending[a] * ascending[a] : std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < n; ++k) {
+            std::int64_t shorter = 0;
+            for (std::size_t a = 0; a < kInRegisters; ++a) shorter += squared[a] < needed[k];
+            classes[k] = shorter;
+        }
+        return;
+    }
+    std::fill(classes, classes + n, 0);
     for (std::size_t a = 0; a < tested; ++a) {
         const double lambda_squared = ascending[a] * ascending[a];
-        for (std::size_t k = 0; k < n; ++k) count[k] += lambda_squared < needed[k] ? 1.0 : 0.0;
+        for (std::size_t k = 0; k < n; ++k) classes[k] += lambda_squared < needed[k];
     }
-    destination.resize(n);
+}
+
+// Orders kernels by the shortest wavelength that reaches them, so that each wavelength sums a
+// prefix: copies from[j][k] to to[j][position of k] for each array j, stably by class
+// (classify_by_first_wavelength); returns prefix: the kernels reaching ascending[a] are [0,
+// prefix[a + 1]) (those reaching none of the tested wavelengths after prefix[tested]). The
+// kernels are dealt to four contiguous streams, counted and placed side by side: each class's
+// running position is a chain through memory, and four chains overlap where one would wait.
+constexpr std::size_t kOrderedArrays = 6;
+std::vector<std::size_t> order_by_class(const double* needed, std::size_t n, const std::vector<double>& ascending,
+                                        std::size_t tested, const std::array<const double*, kOrderedArrays>& from,
+                                        const std::array<double*, kOrderedArrays>& to) {
+    thread_local std::vector<std::int64_t> class_of;
+    class_of.resize(n);
+    classify_by_first_wavelength(needed, n, ascending, tested, class_of.data());
+    constexpr std::size_t kStreams = 4;
+    const std::size_t classes = tested + 1;
+    const std::size_t quarter = n / kStreams;  // stream q: [q·quarter, (q+1)·quarter), the last one to n
+    thread_local std::vector<std::size_t> position;  // [stream][class]
+    position.assign(kStreams * classes, 0);
+    const std::int64_t* const cls = class_of.data();
+    std::size_t* const at = position.data();
+    for (std::size_t i = 0; i < quarter; ++i)
+        for (std::size_t q = 0; q < kStreams; ++q) ++at[q * classes + cls[q * quarter + i]];
+    for (std::size_t k = kStreams * quarter; k < n; ++k) ++at[(kStreams - 1) * classes + cls[k]];
+    // Counts to first positions: class by class, stream by stream (the order the kernels had).
     std::vector<std::size_t> prefix(tested + 2, 0);
-    for (std::size_t k = 0; k < n; ++k) {
-        destination[k] = static_cast<std::size_t>(count[k]);
-        ++prefix[destination[k] + 1];
+    std::size_t next = 0;
+    for (std::size_t c = 0; c < classes; ++c) {
+        for (std::size_t q = 0; q < kStreams; ++q) {
+            const std::size_t count = at[q * classes + c];
+            at[q * classes + c] = next;
+            next += count;
+        }
+        prefix[c + 1] = next;
     }
-    for (std::size_t a = 1; a < prefix.size(); ++a) prefix[a] += prefix[a - 1];
-    std::vector<std::size_t> next(prefix.begin(), prefix.end() - 1);
-    for (std::size_t k = 0; k < n; ++k) destination[k] = next[destination[k]]++;
+    const auto place = [&](std::size_t q, std::size_t k) {
+        const std::size_t destination = at[q * classes + cls[k]]++;
+        for (std::size_t j = 0; j < kOrderedArrays; ++j) to[j][destination] = from[j][k];
+    };
+    for (std::size_t i = 0; i < quarter; ++i)
+        for (std::size_t q = 0; q < kStreams; ++q) place(q, q * quarter + i);
+    for (std::size_t k = kStreams * quarter; k < n; ++k) place(kStreams - 1, k);
     return prefix;
 }
 
-// to[destination[k]] = from[k] for k < destination.size(), through plain pointers so that it pipelines.
-void scatter(const std::vector<std::size_t>& destination, const std::vector<double>& from, std::vector<double>& to) {
-    const std::size_t* __restrict where = destination.data();
-    const double* __restrict source = from.data();
-    double* __restrict target = to.data();
-    for (std::size_t k = 0; k < destination.size(); ++k) target[where[k]] = source[k];
-}
-
 // First order: orders the kernels by the shortest wavelength that still reaches them, λ_k =
-// max_axis |ψ̄ + ξ3 H'_k| / reach, into `ordered` (returns prefix as first_wavelength_destinations).
+// max_axis |ψ̄ + ξ3 H'_k| / reach, into `ordered` (returns prefix as order_by_class).
 // Every kernel reaches the longest wavelength, at which it was collected; the sum applies the exact
 // cut, so the squares compared here carry a margin that errs towards keeping.
 GLINTSCOPE_OUT_OF_LINE_CLONES
@@ -1369,21 +1402,16 @@ std::vector<std::size_t> order_by_first_wavelength(const GaborPointQuery& query,
                                        std::fabs(psi.y + xi3_value * slope_y[k])) * inverse_reach;
         needed[k] = across * across * kKeep;
     }
-    thread_local std::vector<std::size_t> destination;
-    const std::vector<std::size_t> prefix =
-        first_wavelength_destinations(needed, n, ascending, ascending.size() - 1, destination);
     ordered.resize(n);
-    scatter(destination, collected.px, ordered.px);
-    scatter(destination, collected.py, ordered.py);
-    scatter(destination, collected.height, ordered.height);
-    scatter(destination, collected.slope_x, ordered.slope_x);
-    scatter(destination, collected.slope_y, ordered.slope_y);
-    scatter(destination, collected.weight, ordered.weight);
-    return prefix;
+    return order_by_class(needed, n, ascending, ascending.size() - 1,
+                          {collected.px.data(), collected.py.data(), collected.height.data(), collected.slope_x.data(),
+                           collected.slope_y.data(), collected.weight.data()},
+                          {ordered.px.data(), ordered.py.data(), ordered.height.data(), ordered.slope_x.data(),
+                           ordered.slope_y.data(), ordered.weight.data()});
 }
 
 // Second order: the kernels' wavelength-free terms (gabor::WavelengthFreeTerms) ordered by λ_k², their
-// exact cut, into `ordered` (returns prefix as first_wavelength_destinations): the prefix of a
+// exact cut, into `ordered` (returns prefix as order_by_class): the prefix of a
 // wavelength is then exactly the kernels within their cut there, and its sum needs no cut of its own.
 std::vector<std::size_t> order_terms_by_first_wavelength(const GaborPointQuery& query, const gabor::KernelGrid& grid,
                                                          const std::vector<double>& ascending,
@@ -1393,17 +1421,12 @@ std::vector<std::size_t> order_terms_by_first_wavelength(const GaborPointQuery& 
     const gabor::TransformPoint at_one_micron = gabor::transform_point(
         query.model, gabor::FresnelAtWavelength({}, 1.0), query.omega_i, query.omega_o, 1.0, 1.0);
     gabor::wavelength_free_terms(collected, grid, at_one_micron, terms);
-    thread_local std::vector<std::size_t> destination;
-    const std::vector<std::size_t> prefix = first_wavelength_destinations(
-        terms.first_wavelength_squared.data(), collected.size(), ascending, ascending.size(), destination);
     ordered.resize(collected.size());
-    scatter(destination, terms.length_squared, ordered.length_squared);
-    scatter(destination, terms.adjugate_form, ordered.adjugate_form);
-    scatter(destination, terms.determinant, ordered.determinant);
-    scatter(destination, terms.trace, ordered.trace);
-    scatter(destination, terms.phase, ordered.phase);
-    scatter(destination, terms.weight, ordered.weight);
-    return prefix;
+    return order_by_class(terms.first_wavelength_squared.data(), collected.size(), ascending, ascending.size(),
+                          {terms.length_squared.data(), terms.adjugate_form.data(), terms.determinant.data(),
+                           terms.trace.data(), terms.phase.data(), terms.weight.data()},
+                          {ordered.length_squared.data(), ordered.adjugate_form.data(), ordered.determinant.data(),
+                           ordered.trace.data(), ordered.phase.data(), ordered.weight.data()});
 }
 
 void check_wavelength(double lambda_um) {

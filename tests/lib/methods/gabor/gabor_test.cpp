@@ -8,6 +8,7 @@
 #include <complex>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "methods/gabor/gabor_kernels.hpp"
@@ -322,15 +323,16 @@ TEST(GaborSurface, SpectralQueryEqualsSingleWavelengthQueries) {
 
 // A spectral query orders its kernels by the shortest wavelength that reaches them (squared
 // thresholds, a count per wavelength) so that each wavelength sums a prefix: with the renderer's
-// 8 bins given in no particular order, every value equals its own single-wavelength query (whose
-// pruning and kernel sum are separate), at both orders and densities; and the shorter bins do
-// sum fewer kernels than the longest, or the ordering would save nothing.
+// 8 bins, and 12 (more thresholds than are compared in registers), given in no particular order,
+// every value equals its own single-wavelength query (whose pruning and kernel sum are separate),
+// at both orders and densities; and the shorter bins do sum fewer kernels than the longest, or the
+// ordering would save nothing.
 TEST(GaborSurface, SpectralBinsInAnyOrderEqualSingleWavelengthQueries) {
     const LobeQuery query = isotropic_query(32);
-    std::vector<double> wavelengths = spectral_bin_centres_um(8);
-    std::rotate(wavelengths.begin(), wavelengths.begin() + 3, wavelengths.end());
-    std::reverse(wavelengths.begin(), wavelengths.begin() + 4);
-    for (const auto& [order, density] : {std::pair{1, 1}, {2, 1}, {2, 2}}) {
+    for (const auto& [bins, order, density] : {std::tuple{8, 1, 1}, {8, 2, 1}, {8, 2, 2}, {12, 1, 1}, {12, 2, 1}}) {
+        std::vector<double> wavelengths = spectral_bin_centres_um(bins);
+        std::rotate(wavelengths.begin(), wavelengths.begin() + 3, wavelengths.end());
+        std::reverse(wavelengths.begin(), wavelengths.begin() + 4);
         GaborSettings settings;
         settings.kernels_per_texel = density;
         settings.order = order;
@@ -350,14 +352,14 @@ TEST(GaborSurface, SpectralBinsInAnyOrderEqualSingleWavelengthQueries) {
                 for (std::size_t i = 0; i < wavelengths.size(); ++i) {
                     const double alone = surface.f_r(point, wavelengths[i]);
                     EXPECT_NEAR(together[i], alone, 1e-9 * alone + 1e-300)
-                        << "order " << order << " K = " << density << " " << to_string(model) << " lambda "
-                        << wavelengths[i];
+                        << bins << " bins, order " << order << " K = " << density << " " << to_string(model)
+                        << " lambda " << wavelengths[i];
                 }
             }
         // Measured: 0.67 (order 1) and 0.69 (order 2) of 8 × the longest bin's at K = 1, 0.92 at K = 2,
         // whose transforms reach twice as far.
         EXPECT_LT(summed_spectral, (density == 1 ? 0.8 : 0.97) * wavelengths.size() * summed_at_longest)
-            << "order " << order << " K = " << density;
+            << bins << " bins, order " << order << " K = " << density;
     }
 }
 
