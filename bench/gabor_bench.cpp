@@ -75,8 +75,8 @@ BENCHMARK(BM_GaborVsFftPerModel256)
     ->Iterations(1);
 
 // Point queries at random footprint centres and outgoing directions over the whole hemisphere;
-// state.range(0) wavelengths per query, state.range(1) kernels per texel, state.range(2) the order
-// (1: Yan 2018's kernels, 2: chirped). "per_omega_lambda" is the mean time per (ω_o, λ) pair.
+// state.range(0) wavelengths per query (1: 0.5 µm; 8, a render's `--spectral 8`, or 16 visible
+// bins), state.range(1) kernels per texel, state.range(2) the order (1: Yan 2018's kernels, 2: chirped). "per_omega_lambda" is the mean time per (ω_o, λ) pair.
 // The isotropic surface's pruning hierarchy at K = density and the order, built once.
 const GaborSurface& point_query_surface(int density, int order) {
     const auto surface_for = [](int density, int order) {
@@ -93,7 +93,8 @@ const GaborSurface& point_query_surface(int density, int order) {
 void BM_GaborPointQuery(benchmark::State& state) {
     const GaborSurface& surface =
         point_query_surface(static_cast<int>(state.range(1)), static_cast<int>(state.range(2)));
-    const std::vector<double> wavelengths = state.range(0) == 1 ? std::vector<double>{0.5} : visible_bins(16);
+    const std::vector<double> wavelengths =
+        state.range(0) == 1 ? std::vector<double>{0.5} : visible_bins(static_cast<int>(state.range(0)));
     std::mt19937 random(7);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
     std::vector<GaborPointQuery> queries(4096);
@@ -113,7 +114,7 @@ void BM_GaborPointQuery(benchmark::State& state) {
         double(state.iterations()) * wavelengths.size(), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_GaborPointQuery)
-    ->ArgsProduct({{1, 16}, {1, 2}, {1, 2}})
+    ->ArgsProduct({{1, 8, 16}, {1, 2}, {1, 2}})
     ->Unit(benchmark::kMicrosecond);
 
 // A renderer's shading points inside the lobe (Yan 2018 Fig. 12's Patch scene at λ 0.4 µm):
