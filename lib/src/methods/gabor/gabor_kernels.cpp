@@ -55,18 +55,36 @@ using gabor_math::Double4;
     return a < b ? a : b;
 }
 
-// 1/√x for x > 0.
+// For det = det_re + i det_im ≠ 0: 1/|det|, 1/|det|² and √det = (root_re, root_im) with root_re > 0:
+// √det = (r, det_im/(2r)), r = √((|det| + det_re)/2).
 template <typename T>
-[[gnu::always_inline]] inline T reciprocal_sqrt(const T& x) {
-    return 1.0 / sqrt_of(x);
+struct DeterminantRoots {
+    T inverse_abs;
+    T inverse_norm2;
+    T root_re;
+    T root_im;
+};
+
+// Through the divider: two divisions and two square roots.
+template <typename T>
+[[gnu::always_inline]] inline DeterminantRoots<T> determinant_roots(const T& det_re, const T& det_im) {
+    const T norm2 = det_re * det_re + det_im * det_im;
+    const T inverse_norm2 = 1.0 / norm2;
+    const T det_abs = sqrt_of(norm2);
+    const T root_re = sqrt_of(0.5 * (det_abs + det_re));
+    return {det_abs * inverse_norm2, inverse_norm2, root_re, det_im / (2.0 * root_re)};
 }
-// In eight lanes: AVX-512's estimate (relative error < 2^−14) and two Newton steps, each squaring
-// the error (to ~2^−54), on the vector units instead of a square root and a division on the
-// divider, whose 512-bit operations are slow (the spectral term 7–10% faster; docs/performance.md).
+
+// In eight lanes, without the divider, whose 512-bit operations are slow: 1/|det| and
+// g = 1/√(2(|det| + det_re)), which gives r = (|det| + det_re) g and det_im/(2r) = det_im g, from
+// AVX-512's reciprocal-square-root estimate (relative error < 2^−14) and two Newton steps, each
+// squaring the error (to ~2^−54): the spectral term 7–10% faster (docs/performance.md). In four
+// lanes the same formula measured 12% slower than the divider's (its square roots and divisions
+// in one chain), so the clones that also run without AVX-512 keep the one above.
 // The estimate is one instruction of assembly: its intrinsic would need the AVX-512 target on every
 // template between here and sum_wavelength_free_avx512, the only function that runs eight lanes.
 // Clang refuses a 512-bit operand outside an AVX-512 function, so its builds (the fuzz targets)
-// keep the generic 1/√x.
+// keep the divider.
 #if !defined(__clang__)
 [[gnu::always_inline]] inline gabor_math::Double8 reciprocal_sqrt(const gabor_math::Double8& x) {
     gabor_math::Double8 y;
@@ -75,6 +93,15 @@ template <typename T>
     y += y * (0.5 - half_x * y * y);  // y(3 − x y²)/2
     y += y * (0.5 - half_x * y * y);
     return y;
+}
+
+[[gnu::always_inline]] inline DeterminantRoots<gabor_math::Double8> determinant_roots(
+    const gabor_math::Double8& det_re, const gabor_math::Double8& det_im) {
+    const gabor_math::Double8 norm2 = det_re * det_re + det_im * det_im;
+    const gabor_math::Double8 inverse_abs = reciprocal_sqrt(norm2);
+    const gabor_math::Double8 abs_plus_re = norm2 * inverse_abs + det_re;
+    const gabor_math::Double8 g = reciprocal_sqrt(2.0 * abs_plus_re);
+    return {inverse_abs, inverse_abs * inverse_abs, abs_plus_re * g, det_im * g};
 }
 #endif
 
@@ -262,26 +289,19 @@ template <typename T>
                                                             T& sum_im) {
     const T det_re = 1.0 - w.s_squared * determinant;
     const T det_im = w.s * trace;
-    const T norm2 = det_re * det_re + det_im * det_im;
-    const T inverse_abs = reciprocal_sqrt(norm2);  // 1/|det|
-    const T inverse_norm2 = inverse_abs * inverse_abs;
+    const DeterminantRoots<T> roots = determinant_roots(det_re, det_im);
     const T num_re = w.beta_over_lambda2 * length_squared;
     const T num_im = w.beta_s_over_lambda2 * adjugate_form;
-    const T q_re = (num_re * det_re + num_im * det_im) * inverse_norm2;
-    const T q_im = (num_im * det_re - num_re * det_im) * inverse_norm2;
+    const T q_re = (num_re * det_re + num_im * det_im) * roots.inverse_norm2;
+    const T q_im = (num_im * det_re - num_re * det_im) * roots.inverse_norm2;
     // As in add_chirped_term: e^{−25} stands for anything smaller inside the widened box.
-    const T amplitude = weight * gabor_math::exp_neg(min_of(q_re, T{} + 25.0)) * inverse_abs;
+    const T amplitude = weight * gabor_math::exp_neg(min_of(q_re, T{} + 25.0)) * roots.inverse_abs;
     T cos_phase;
     T sin_phase;
     gabor_math::cos_sin_turns(w.inverse_lambda * phase + (0.5 / pi) * q_im, cos_phase, sin_phase);
-    // det^{−1/2} = conj(√det)/|det|, √det = (r, det_im/(2r)), r = √((|det| + det_re)/2) > 0: with
-    // g = 1/√(2(|det| + det_re)), r = (|det| + det_re) g and det_im/(2r) = det_im g.
-    const T abs_plus_re = norm2 * inverse_abs + det_re;
-    const T g = reciprocal_sqrt(2.0 * abs_plus_re);
-    const T root_re = abs_plus_re * g;
-    const T root_im = det_im * g;
-    sum_re += amplitude * (cos_phase * root_re - sin_phase * root_im);
-    sum_im -= amplitude * (sin_phase * root_re + cos_phase * root_im);
+    // det^{−1/2} = conj(√det)/|det|.
+    sum_re += amplitude * (cos_phase * roots.root_re - sin_phase * roots.root_im);
+    sum_im -= amplitude * (sin_phase * roots.root_re + cos_phase * roots.root_im);
 }
 
 template <typename V>
