@@ -47,63 +47,50 @@ using gabor_math::Double4;
 }
 [[gnu::always_inline]] inline Double4 abs_of(const Double4& x) { return x < 0.0 ? -x : x; }
 [[gnu::always_inline]] inline Double4 min_of(const Double4& a, const Double4& b) { return a < b ? a : b; }
-[[gnu::always_inline]] inline gabor_math::Double8 sqrt_of(const gabor_math::Double8& x) {
-    return gabor_math::Double8{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3]),
-                               std::sqrt(x[4]), std::sqrt(x[5]), std::sqrt(x[6]), std::sqrt(x[7])};
-}
-[[gnu::always_inline]] inline gabor_math::Double8 min_of(const gabor_math::Double8& a, const gabor_math::Double8& b) {
-    return a < b ? a : b;
-}
 
-// For det = det_re + i det_im ≠ 0: 1/|det|, 1/|det|² and √det = (root_re, root_im) with root_re > 0:
-// √det = (r, det_im/(2r)), r = √((|det| + det_re)/2).
-template <typename T>
+using gabor_math::Single16;
+using gabor_math::Single8;
+
+// For det = det_re + i det_im (|det| ≥ 1 for the spectral terms' M = I + iE): 1/|det|, 1/|det|²
+// and √det = (root_re, root_im) with root_re > 0, √det = (r, det_im/(2r)), r = √((|det| + det_re)/2),
+// by reciprocal square roots: 1/|det| and g = 1/√(2(|det| + det_re)), which give r = (|det| + det_re) g
+// and det_im/(2r) = det_im g. F: Single8 or Single16.
+template <typename F>
 struct DeterminantRoots {
-    T inverse_abs;
-    T inverse_norm2;
-    T root_re;
-    T root_im;
+    F inverse_abs;
+    F inverse_norm2;
+    F root_re;
+    F root_im;
 };
 
-// Through the divider: two divisions and two square roots.
-template <typename T>
-[[gnu::always_inline]] inline DeterminantRoots<T> determinant_roots(const T& det_re, const T& det_im) {
-    const T norm2 = det_re * det_re + det_im * det_im;
-    const T inverse_norm2 = 1.0 / norm2;
-    const T det_abs = sqrt_of(norm2);
-    const T root_re = sqrt_of(0.5 * (det_abs + det_re));
-    return {det_abs * inverse_norm2, inverse_norm2, root_re, det_im / (2.0 * root_re)};
+template <typename F>
+[[gnu::always_inline]] inline F reciprocal_sqrt(const F& x) {
+    F root;
+    for (std::size_t lane = 0; lane < sizeof(F) / sizeof(float); ++lane) root[lane] = std::sqrt(x[lane]);
+    return 1.0f / root;
 }
 
-// In eight lanes, without the divider, whose 512-bit operations are slow: 1/|det| and
-// g = 1/√(2(|det| + det_re)), which gives r = (|det| + det_re) g and det_im/(2r) = det_im g, from
-// AVX-512's reciprocal-square-root estimate (relative error < 2^−14) and two Newton steps, each
-// squaring the error (to ~2^−54): the spectral term 7–10% faster (docs/performance.md). In four
-// lanes the same formula measured 12% slower than the divider's (its square roots and divisions
-// in one chain), so the clones that also run without AVX-512 keep the one above.
-// The estimate is one instruction of assembly: its intrinsic would need the AVX-512 target on every
-// template between here and sum_wavelength_free_avx512, the only function that runs eight lanes.
-// Clang refuses a 512-bit operand outside an AVX-512 function, so its builds (the fuzz targets)
-// keep the divider.
+// With AVX-512: its estimate (relative error < 2^−14) and one Newton step (to ~2^−28), without
+// the divider. One instruction of assembly: its intrinsic would need the AVX-512 target on every
+// template between here and sum_single16; Clang refuses a 512-bit operand outside an AVX-512
+// function, so its builds (the fuzz targets) take the one above.
 #if !defined(__clang__)
-[[gnu::always_inline]] inline gabor_math::Double8 reciprocal_sqrt(const gabor_math::Double8& x) {
-    gabor_math::Double8 y;
-    asm("vrsqrt14pd %1, %0" : "=v"(y) : "v"(x));
-    const gabor_math::Double8 half_x = 0.5 * x;
-    y += y * (0.5 - half_x * y * y);  // y(3 − x y²)/2
-    y += y * (0.5 - half_x * y * y);
-    return y;
-}
-
-[[gnu::always_inline]] inline DeterminantRoots<gabor_math::Double8> determinant_roots(
-    const gabor_math::Double8& det_re, const gabor_math::Double8& det_im) {
-    const gabor_math::Double8 norm2 = det_re * det_re + det_im * det_im;
-    const gabor_math::Double8 inverse_abs = reciprocal_sqrt(norm2);
-    const gabor_math::Double8 abs_plus_re = norm2 * inverse_abs + det_re;
-    const gabor_math::Double8 g = reciprocal_sqrt(2.0 * abs_plus_re);
-    return {inverse_abs, inverse_abs * inverse_abs, abs_plus_re * g, det_im * g};
+template <>
+[[gnu::always_inline]] inline Single16 reciprocal_sqrt(const Single16& x) {
+    Single16 y;
+    asm("vrsqrt14ps %1, %0" : "=v"(y) : "v"(x));
+    return y + y * (0.5f - 0.5f * x * y * y);  // y(3 − x y²)/2
 }
 #endif
+
+template <typename F>
+[[gnu::always_inline]] inline DeterminantRoots<F> determinant_roots(const F& det_re, const F& det_im) {
+    const F norm2 = det_re * det_re + det_im * det_im;
+    const F inverse_abs = reciprocal_sqrt(norm2);
+    const F abs_plus_re = norm2 * inverse_abs + det_re;
+    const F g = reciprocal_sqrt(2.0f * abs_plus_re);
+    return {inverse_abs, inverse_abs * inverse_abs, abs_plus_re * g, det_im * g};
+}
 
 // One kernel's term w_k l² ξ2 e^{−i2π(ξ3 H_k/λ + m_k·v)} e^{−β|v + a_k|²} (T: double or Double4).
 template <typename T>
@@ -278,60 +265,123 @@ struct WavelengthScales {
     double beta_over_lambda2 = 0.0;
     double beta_s_over_lambda2 = 0.0;
     double inverse_lambda = 0.0;
+    double lambda_squared = 0.0;
 };
 
-// add_chirped_term's term from the kernel's wavelength-free factors (WavelengthFreeTerms), with
-// β uᵀM⁻¹u = β uᵀ adj(M) u / det M, adj(M) = I + i adj(E); no cut (the caller's kernels are within it).
-template <typename T>
-[[gnu::always_inline]] inline void add_wavelength_free_term(const T& length_squared, const T& adjugate_form,
-                                                            const T& determinant, const T& trace, const T& phase,
-                                                            const T& weight, const WavelengthScales& w, T& sum_re,
-                                                            T& sum_im) {
-    const T det_re = 1.0 - w.s_squared * determinant;
-    const T det_im = w.s * trace;
-    const DeterminantRoots<T> roots = determinant_roots(det_re, det_im);
-    const T num_re = w.beta_over_lambda2 * length_squared;
-    const T num_im = w.beta_s_over_lambda2 * adjugate_form;
-    const T q_re = (num_re * det_re + num_im * det_im) * roots.inverse_norm2;
-    const T q_im = (num_im * det_re - num_re * det_im) * roots.inverse_norm2;
+// Lanes [0, 8) or [8, 16) of a Single16 (or [0, 4), [4, 8) of a Single8) in double.
+template <typename F>
+[[gnu::always_inline]] inline auto half_in_double(const F& v, int half) {
+    if constexpr (sizeof(F) == 64) {
+        const gabor_math::Single8 part = half == 0 ? __builtin_shufflevector(v, v, 0, 1, 2, 3, 4, 5, 6, 7)
+                                                   : __builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15);
+        return __builtin_convertvector(part, gabor_math::Double8);
+    } else {
+        using Single4 = float __attribute__((vector_size(16)));
+        const Single4 part = half == 0 ? __builtin_shufflevector(v, v, 0, 1, 2, 3) : __builtin_shufflevector(v, v, 4, 5, 6, 7);
+        return __builtin_convertvector(part, Double4);
+    }
+}
+
+// Two double vectors as one single-precision vector of twice the lanes.
+template <typename F, typename D>
+[[gnu::always_inline]] inline F joined_in_single(const D& low, const D& high) {
+    if constexpr (sizeof(F) == 64) {
+        const Single8 a = __builtin_convertvector(low, Single8), b = __builtin_convertvector(high, Single8);
+        return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    } else {
+        using Single4 = float __attribute__((vector_size(16)));
+        const Single4 a = __builtin_convertvector(low, Single4), b = __builtin_convertvector(high, Single4);
+        return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+    }
+}
+
+// One step of kLanes terms i … i + kLanes − 1 (those from `valid` on left out), in single
+// precision but for the phase: ξ3 H_k/λ + m_k·v = phase/λ turns, up to hundreds, is reduced to
+// [−½, ½] in double first. add_chirped_term's term from the kernel's wavelength-free factors
+// (WavelengthFreeTerms), with β uᵀM⁻¹u = β uᵀ adj(M) u / det M, adj(M) = I + i adj(E); no cut (the
+// caller's kernels are within it). Added to term_re and term_im.
+template <typename F, typename D>
+[[gnu::always_inline]] inline void add_single_step(const WavelengthFreeTerms& t, std::size_t i, std::size_t valid,
+                                                   const WavelengthScales& w, F& sum_re, F& sum_im) {
+    constexpr std::size_t n = sizeof(F) / sizeof(float);
+    // Within its cut at λ where !(λ² < λ_k²) (NaN counts as within, as it always has).
+    const auto reaches = [&](std::size_t at) {
+        return !(D{} + w.lambda_squared < gabor_math::lanes<D>(&t.first_wavelength_squared[at]));
+    };
+    const auto load = [i](const std::vector<float>& array) {
+        F v;
+        std::memcpy(&v, &array[i], sizeof v);
+        return v;
+    };
+    const auto turns_fraction = [&](std::size_t at) {
+        const D turns = gabor_math::lanes<D>(&t.phase[at]) * w.inverse_lambda;
+        return turns - ((turns + 6755399441055744.0) - 6755399441055744.0);  // 1.5 · 2^52
+    };
+    const F fraction = joined_in_single<F>(turns_fraction(i), turns_fraction(i + n / 2));
+    const F det_re = 1.0f - static_cast<float>(w.s_squared) * load(t.determinant);
+    const F det_im = static_cast<float>(w.s) * load(t.trace);
+    const DeterminantRoots<F> roots = determinant_roots(det_re, det_im);
+    const F num_re = static_cast<float>(w.beta_over_lambda2) * load(t.length_squared);
+    const F num_im = static_cast<float>(w.beta_s_over_lambda2) * load(t.adjugate_form);
+    const F q_re = (num_re * det_re + num_im * det_im) * roots.inverse_norm2;
+    const F q_im = (num_im * det_re - num_re * det_im) * roots.inverse_norm2;
     // As in add_chirped_term: e^{−25} stands for anything smaller inside the widened box.
-    const T amplitude = weight * gabor_math::exp_neg(min_of(q_re, T{} + 25.0)) * roots.inverse_abs;
-    T cos_phase;
-    T sin_phase;
-    gabor_math::cos_sin_turns(w.inverse_lambda * phase + (0.5 / pi) * q_im, cos_phase, sin_phase);
+    F amplitude = load(t.weight) * gabor_math::exp_neg_single(q_re < 25.0f ? q_re : F{} + 25.0f) * roots.inverse_abs;
+    using Mask = std::conditional_t<sizeof(F) == 64, gabor_math::Int16, gabor_math::Int8>;
+    const auto low = reaches(i), high = reaches(i + n / 2);  // 64-bit lanes: −1 where reached
+    Mask within;
+    if constexpr (n == 16)
+        within = __builtin_convertvector(
+            __builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15), Mask);
+    else
+        within = __builtin_convertvector(__builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7), Mask);
+    if (valid < n) {
+        Mask lane{};
+        for (std::size_t k = 0; k < n; ++k) lane[k] = static_cast<std::int32_t>(k);
+        within &= lane < static_cast<std::int32_t>(valid);
+    }
+    amplitude = within != 0 ? amplitude : F{};
+    F cos_phase;
+    F sin_phase;
+    gabor_math::cos_sin_turns_single(fraction + static_cast<float>(0.5 / pi) * q_im, cos_phase, sin_phase);
     // det^{−1/2} = conj(√det)/|det|.
     sum_re += amplitude * (cos_phase * roots.root_re - sin_phase * roots.root_im);
     sum_im -= amplitude * (sin_phase * roots.root_re + cos_phase * roots.root_im);
 }
 
-template <typename V>
-[[gnu::always_inline]] inline void sum_wavelength_free_in_lanes(const WavelengthFreeTerms& t, std::size_t end,
-                                                                const WavelengthScales& scales, double& out_re,
-                                                                double& out_im) {
-    const auto add = [&](std::size_t i, auto& re, auto& im, auto&) __attribute__((always_inline)) {
-        using T = std::decay_t<decltype(re)>;
-        using gabor_math::lanes;
-        add_wavelength_free_term(lanes<T>(&t.length_squared[i]), lanes<T>(&t.adjugate_form[i]),
-                                 lanes<T>(&t.determinant[i]), lanes<T>(&t.trace[i]), lanes<T>(&t.phase[i]),
-                                 lanes<T>(&t.weight[i]), scales, re, im);
+template <typename F, typename D>
+[[gnu::always_inline]] inline void sum_single(const WavelengthFreeTerms& t, std::size_t end, const WavelengthScales& w,
+                                              double& out_re, double& out_im) {
+    constexpr std::size_t n = sizeof(F) / sizeof(float);
+    constexpr std::size_t kStepsInSingle = 4;  // steps summed in single precision before they join the double sums
+    D sum_re = D{} + 0.0;
+    D sum_im = sum_re;
+    const auto add_steps = [&](std::size_t first, std::size_t steps, std::size_t valid_in_last) {
+        F re = F{} + 0.0f;
+        F im = re;
+        for (std::size_t k = 0; k < steps; ++k)
+            add_single_step<F, D>(t, first + k * n, k + 1 == steps ? valid_in_last : n, w, re, im);
+        sum_re += half_in_double(re, 0) + half_in_double(re, 1);
+        sum_im += half_in_double(im, 0) + half_in_double(im, 1);
     };
-    double unused = 0.0;
-    gabor_math::sum_in_lanes<V>(0, end, add, out_re, out_im, unused);
+    std::size_t i = 0;
+    for (; i + kStepsInSingle * n <= end; i += kStepsInSingle * n) add_steps(i, kStepsInSingle, n);
+    // The rest: whole steps, and a last one whose lanes past `end` read the arrays' spare elements and are left out.
+    if (i < end) add_steps(i, (end - i + n - 1) / n, end - i - (end - i - 1) / n * n);
+    out_re = gabor_math::lane_total(sum_re);
+    out_im = gabor_math::lane_total(sum_im);
 }
 
 GLINTSCOPE_OUT_OF_LINE_CLONES
-void sum_wavelength_free(const WavelengthFreeTerms& t, std::size_t end, const WavelengthScales& scales, double& out_re,
-                         double& out_im) {
-    sum_wavelength_free_in_lanes<Double4>(t, end, scales, out_re, out_im);
+void sum_single8(const WavelengthFreeTerms& t, std::size_t end, const WavelengthScales& w, double& out_re, double& out_im) {
+    sum_single<Single8, Double4>(t, end, w, out_re, out_im);
 }
 
-// Eight lanes where the CPU has AVX-512: 8-bin spectral renders 12–23% faster on a Xeon (docs/performance.md).
-// The one-wavelength sums stay at four lanes, where eight measured no faster: their runs are shorter
-// and the walk between them runs 256-bit code.
+// Sixteen lanes where the CPU has AVX-512.
 GLINTSCOPE_AVX512
-void sum_wavelength_free_avx512(const WavelengthFreeTerms& t, std::size_t end, const WavelengthScales& scales,
-                                double& out_re, double& out_im) {
-    sum_wavelength_free_in_lanes<gabor_math::Double8>(t, end, scales, out_re, out_im);
+void sum_single16(const WavelengthFreeTerms& t, std::size_t end, const WavelengthScales& w, double& out_re,
+                  double& out_im) {
+    sum_single<Single16, gabor_math::Double8>(t, end, w, out_re, out_im);
 }
 
 // The arrays that wavelength_free_terms reads and writes, as plain pointers: taken by value, they let
@@ -348,12 +398,12 @@ struct KernelColumns {
     const double* __restrict hyy;
 };
 struct TermColumns {
-    double* __restrict length_squared;
-    double* __restrict adjugate_form;
-    double* __restrict determinant;
-    double* __restrict trace;
+    float* __restrict length_squared;
+    float* __restrict adjugate_form;
+    float* __restrict determinant;
+    float* __restrict trace;
     double* __restrict phase;
-    double* __restrict weight;
+    float* __restrict weight;
     double* __restrict first_wavelength_squared;
 };
 
@@ -372,13 +422,13 @@ void fill_wavelength_free_terms(std::size_t n, const KernelColumns k, const Term
         const double uy = psi_y + xi3_value * k.slope_y[i];
         const double ux2 = ux * ux;
         const double uy2 = uy * uy;
-        t.length_squared[i] = ux2 + uy2;
-        t.adjugate_form[i] = k.hyy[i] * ux2 - 2.0 * k.hxy[i] * ux * uy + k.hxx[i] * uy2;
-        t.determinant[i] = k.hxx[i] * k.hyy[i] - k.hxy[i] * k.hxy[i];
-        t.trace[i] = k.hxx[i] + k.hyy[i];
+        t.length_squared[i] = static_cast<float>(ux2 + uy2);
+        t.adjugate_form[i] = static_cast<float>(k.hyy[i] * ux2 - 2.0 * k.hxy[i] * ux * uy + k.hxx[i] * uy2);
+        t.determinant[i] = static_cast<float>(k.hxx[i] * k.hyy[i] - k.hxy[i] * k.hxy[i]);
+        t.trace[i] = static_cast<float>(k.hxx[i] + k.hyy[i]);
         t.phase[i] = xi3_value * k.height[i] + k.px[i] * psi_x + k.py[i] * psi_y;
         // Where ξ2 does not depend on H' (all models but Kirchhoff) its slope terms are 0 and ξ2 is 1 exactly.
-        t.weight[i] = k.weight[i] * (1.0 - xi2_gx * k.slope_x[i] - xi2_gy * k.slope_y[i]);
+        t.weight[i] = static_cast<float>(k.weight[i] * (1.0 - xi2_gx * k.slope_x[i] - xi2_gy * k.slope_y[i]));
         const double spread = spread_scale * spectral_radius(k.hxx[i], k.hxy[i], k.hyy[i]);
         t.first_wavelength_squared[i] = (ux2 > uy2 ? ux2 : uy2) * inverse_reach2 - spread * spread;
     }
@@ -612,10 +662,18 @@ std::complex<double> sum_wavelength_free_terms(const WavelengthFreeTerms& terms,
     scales.inverse_lambda = 1.0 / lambda_um;
     scales.beta_over_lambda2 = grid.beta * scales.inverse_lambda * scales.inverse_lambda;
     scales.beta_s_over_lambda2 = scales.beta_over_lambda2 * scales.s;
+    scales.lambda_squared = lambda_um * lambda_um;
     double re = 0.0;
     double im = 0.0;
-    (cpu_runs_avx512() ? sum_wavelength_free_avx512 : sum_wavelength_free)(terms, end, scales, re, im);
+    (cpu_runs_avx512() ? sum_single16 : sum_single8)(terms, end, scales, re, im);
     return {re, im};
+}
+
+std::size_t count_within_cut(const WavelengthFreeTerms& terms, std::size_t end, double lambda_um) {
+    const double lambda_squared = lambda_um * lambda_um;
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < end; ++k) count += !(lambda_squared < terms.first_wavelength_squared[k]);
+    return count;
 }
 
 std::complex<double> sum_transforms(const KernelArrays& kernels, std::size_t begin, std::size_t end,

@@ -1410,25 +1410,6 @@ std::vector<std::size_t> order_by_first_wavelength(const GaborPointQuery& query,
                            ordered.slope_y.data(), ordered.weight.data()});
 }
 
-// Second order: the kernels' wavelength-free terms (gabor::WavelengthFreeTerms) ordered by λ_k², their
-// exact cut, into `ordered` (returns prefix as order_by_class): the prefix of a
-// wavelength is then exactly the kernels within their cut there, and its sum needs no cut of its own.
-std::vector<std::size_t> order_terms_by_first_wavelength(const GaborPointQuery& query, const gabor::KernelGrid& grid,
-                                                         const std::vector<double>& ascending,
-                                                         const gabor::KernelArrays& collected,
-                                                         gabor::WavelengthFreeTerms& ordered) {
-    thread_local gabor::WavelengthFreeTerms terms;
-    const gabor::TransformPoint at_one_micron = gabor::transform_point(
-        query.model, gabor::FresnelAtWavelength({}, 1.0), query.omega_i, query.omega_o, 1.0, 1.0);
-    gabor::wavelength_free_terms(collected, grid, at_one_micron, terms);
-    ordered.resize(collected.size());
-    return order_by_class(terms.first_wavelength_squared.data(), collected.size(), ascending, ascending.size(),
-                          {terms.length_squared.data(), terms.adjugate_form.data(), terms.determinant.data(),
-                           terms.trace.data(), terms.phase.data(), terms.weight.data()},
-                          {ordered.length_squared.data(), ordered.adjugate_form.data(), ordered.determinant.data(),
-                           ordered.trace.data(), ordered.phase.data(), ordered.weight.data()});
-}
-
 void check_wavelength(double lambda_um) {
     if (!(lambda_um > 0.0 && std::isfinite(lambda_um))) throw Error("gabor: wavelengths must be positive and finite");
 }
@@ -1448,14 +1429,21 @@ void values_of_kernels(const GaborPointQuery& query, const gabor::KernelArrays& 
         return prefix[std::upper_bound(ascending.begin(), ascending.end(), lambda) - ascending.begin()];
     };
     if (grid.order == 2) {
-        thread_local gabor::WavelengthFreeTerms ordered;
-        const std::vector<std::size_t> prefix = order_terms_by_first_wavelength(query, grid, ascending, collected, ordered);
+        // Every kernel's terms, in the order collected: each wavelength's sum leaves out the kernels
+        // beyond their cut there, lane by lane (gabor::sum_wavelength_free_terms).
+        thread_local gabor::WavelengthFreeTerms terms;
+        const gabor::TransformPoint at_one_micron = gabor::transform_point(
+            query.model, gabor::FresnelAtWavelength({}, 1.0), query.omega_i, query.omega_o, 1.0, 1.0);
+        gabor::wavelength_free_terms(collected, grid, at_one_micron, terms);
+        const std::size_t n = collected.size();
         for (std::size_t i = 0; i < wavelengths_um.size(); ++i) {
             const double lambda = wavelengths_um[i];
-            const std::size_t end = reaching(prefix, lambda);
-            values[i] = brdf_of_sum(query, end, lambda, area_um2, statistics, [&](const gabor::TransformPoint& point) {
-                return gabor::sum_wavelength_free_terms(ordered, end, lambda, point.xi3_over_lambda, grid);
-            });
+            const gabor::TransformPoint point =
+                gabor::transform_point(query.model, gabor::FresnelAtWavelength(query.material, lambda), query.omega_i,
+                                       query.omega_o, lambda, area_um2);
+            if (statistics) statistics->kernels_summed += gabor::count_within_cut(terms, n, lambda);
+            values[i] = point.brdf_scale *
+                        std::norm(gabor::sum_wavelength_free_terms(terms, n, lambda, point.xi3_over_lambda, grid));
         }
         return;
     }
