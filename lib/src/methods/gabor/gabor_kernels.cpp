@@ -305,15 +305,15 @@ template <typename F, typename D>
                                                    const WavelengthScales& w, F& sum_re, F& sum_im) {
     constexpr std::size_t n = sizeof(F) / sizeof(float);
     // Within its cut at λ where !(λ² < λ_k²) (NaN counts as within, as it always has).
-    const auto reaches = [&](std::size_t at) {
+    const auto reaches = [&](std::size_t at) __attribute__((always_inline)) {
         return !(D{} + w.lambda_squared < gabor_math::lanes<D>(&t.first_wavelength_squared[at]));
     };
-    const auto load = [i](const std::vector<float>& array) {
+    const auto load = [i](const std::vector<float>& array) __attribute__((always_inline)) {
         F v;
         std::memcpy(&v, &array[i], sizeof v);
         return v;
     };
-    const auto turns_fraction = [&](std::size_t at) {
+    const auto turns_fraction = [&](std::size_t at) __attribute__((always_inline)) {
         const D turns = gabor_math::lanes<D>(&t.phase[at]) * w.inverse_lambda;
         return turns - ((turns + 6755399441055744.0) - 6755399441055744.0);  // 1.5 · 2^52
     };
@@ -356,7 +356,9 @@ template <typename F, typename D>
     constexpr std::size_t kStepsInSingle = 4;  // steps summed in single precision before they join the double sums
     D sum_re = D{} + 0.0;
     D sum_im = sum_re;
-    const auto add_steps = [&](std::size_t first, std::size_t steps, std::size_t valid_in_last) {
+    // Inlined, as everything here, so that the AVX-512 clone's code stays in its own function.
+    const auto add_steps = [&](std::size_t first, std::size_t steps, std::size_t valid_in_last)
+                               __attribute__((always_inline)) {
         F re = F{} + 0.0f;
         F im = re;
         for (std::size_t k = 0; k < steps; ++k)
