@@ -21,7 +21,8 @@
 
 // A wider clone for CPUs with AVX-512 (x86-64-v4: F, VL, DQ, BW, CD), called where
 // cpu_runs_avx512() says so. Kept apart from the clones above because its code is written for
-// eight lanes (gabor_math::Double8), not compiled from the four-lane source.
+// 512-bit vectors (the spectral Gabor sum's sixteen single-precision lanes, gabor_math::Single16),
+// not compiled from the narrower source.
 #define GLINTSCOPE_AVX512 [[gnu::noinline]] __attribute__((target("arch=x86-64-v4")))
 
 namespace glintscope {

@@ -51,8 +51,9 @@ using gabor_math::Double4;
 using gabor_math::Single16;
 using gabor_math::Single8;
 
-// For det = det_re + i det_im (|det| ≥ 1 for the spectral terms' M = I + iE): 1/|det|, 1/|det|²
-// and √det = (root_re, root_im) with root_re > 0, √det = (r, det_im/(2r)), r = √((|det| + det_re)/2),
+// For det = det_re + i det_im (for the spectral terms' M = I + iE, |det M|² = (1 + s²ρ₁²)(1 + s²ρ₂²)
+// over H'''s eigenvalues ρ: at least 1, so a rounding in det_re or det_im stays small against
+// |det|, even where 1 − s² det H'' cancels): 1/|det|, 1/|det|² and √det = (root_re, root_im) with root_re > 0, √det = (r, det_im/(2r)), r = √((|det| + det_re)/2),
 // by reciprocal square roots: 1/|det| and g = 1/√(2(|det| + det_re)), which give r = (|det| + det_re) g
 // and det_im/(2r) = det_im g. F: Single8 or Single16.
 template <typename F>
@@ -295,11 +296,11 @@ template <typename F, typename D>
     }
 }
 
-// One step of kLanes terms i … i + kLanes − 1 (those from `valid` on left out), in single
+// One step of n (8 or 16) terms i … i + n − 1 (those from `valid` on left out), in single
 // precision but for the phase: ξ3 H_k/λ + m_k·v = phase/λ turns, up to hundreds, is reduced to
 // [−½, ½] in double first. add_chirped_term's term from the kernel's wavelength-free factors
-// (WavelengthFreeTerms), with β uᵀM⁻¹u = β uᵀ adj(M) u / det M, adj(M) = I + i adj(E); no cut (the
-// caller's kernels are within it). Added to term_re and term_im.
+// (WavelengthFreeTerms), with β uᵀM⁻¹u = β uᵀ adj(M) u / det M, adj(M) = I + i adj(E); its cut a
+// lane mask (kernels with λ² < λ_k² left out). Added to sum_re and sum_im.
 template <typename F, typename D>
 [[gnu::always_inline]] inline void add_single_step(const WavelengthFreeTerms& t, std::size_t i, std::size_t valid,
                                                    const WavelengthScales& w, F& sum_re, F& sum_im) {

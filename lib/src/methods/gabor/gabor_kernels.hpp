@@ -273,7 +273,7 @@ void wavelength_free_terms(const KernelArrays& kernels, const KernelGrid& grid, 
 // Σ_k over the terms [0, end) within their cut at wavelength λ (λ_k² ≤ λ²) of the second-order
 // sum_transforms; the others are left out lane by lane. Each term is computed in
 // single precision after its phase is reduced to [−½, ½] turn in double, and summed in double: a
-// term's error is below 2^−20 of its size, so the sum's is below 2^−20 Σ_k |w_k| (tests:
+// term's error is below 2^−20 of its size, so the sum's is below 2^−20 Σ_k |w_k l² ξ2| (tests:
 // gabor_chirped_test.cpp); 16 terms per step with AVX-512, 8 without.
 std::complex<double> sum_wavelength_free_terms(const WavelengthFreeTerms& terms, std::size_t end, double lambda_um,
                                                double xi3_over_lambda, const KernelGrid& grid);

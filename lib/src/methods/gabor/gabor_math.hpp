@@ -105,7 +105,7 @@ template <typename F>
     return p;
 }
 
-// cos(2πt) and sin(2πt) in single precision for |t| < 2^22, as cos_sin_turns (below) with Taylor
+// cos(2πt) and sin(2πt) in single precision for |t| < 2^22, as cos_sin_turns (above) with Taylor
 // polynomials of degrees 10 and 9 on [−π/4, π/4] (remainders < 2e-9): errors of a few 1e-7.
 template <typename F>
 [[gnu::always_inline]] inline void cos_sin_turns_single(F t, F& cos_out, F& sin_out) {

@@ -324,12 +324,13 @@ TEST(GaborSurface, SpectralQueryEqualsSingleWavelengthQueries) {
     }
 }
 
-// A spectral query orders its kernels by the shortest wavelength that reaches them (squared
-// thresholds, a count per wavelength) so that each wavelength sums a prefix: with the renderer's
-// 8 bins, and 12 (more thresholds than are compared in registers), given in no particular order,
-// every value equals its own single-wavelength query (whose pruning and kernel sum are separate),
-// at both orders and densities; and the shorter bins do sum fewer kernels than the longest, or the
-// ordering would save nothing.
+// A spectral query prunes once at the longest wavelength; at first order it orders its kernels by
+// the shortest wavelength that reaches them (squared thresholds, a count per wavelength) so that
+// each wavelength sums a prefix, at second order each wavelength masks the kernels beyond their
+// cut. With the renderer's 8 bins, and 12 (more thresholds than are compared in registers), given
+// in no particular order, every value equals its own single-wavelength query (whose pruning and
+// kernel sum are separate), at both orders and densities (second order within single precision's
+// bound); and the shorter bins do count fewer kernels within their cut than the longest.
 TEST(GaborSurface, SpectralBinsInAnyOrderEqualSingleWavelengthQueries) {
     const LobeQuery query = isotropic_query(32);
     for (const auto& [bins, order, density] : {std::tuple{8, 1, 1}, {8, 2, 1}, {8, 2, 2}, {12, 1, 1}, {12, 2, 1}}) {
