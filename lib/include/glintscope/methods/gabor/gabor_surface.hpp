@@ -84,7 +84,9 @@ public:
 
     // f_r at several wavelengths: the hierarchy is traversed and the kernels interpolated once,
     // at the longest wavelength, whose directional reach in slope space is the widest; each
-    // wavelength then sums the survivors that reach it (Yan 2018 §5 "Spectral rendering").
+    // wavelength then sums the survivors that reach it (Yan 2018 §5 "Spectral rendering"). At
+    // second order, with two or more wavelengths, the terms are single precision: each is within
+    // 2^−20 of its size (docs/gabor.md); one wavelength, and first order, sum in double.
     std::vector<double> f_r(const GaborPointQuery& query, const std::vector<double>& wavelengths_um,
                             GaborQueryStatistics* statistics = nullptr) const;
 
