@@ -38,7 +38,7 @@ using gabor_math::Double4;
     return ((dx * dx <= reach2) & (dy * dy <= reach2)) ? amplitude : zero;
 }
 
-// Elementwise helpers for double, Double4 and Double8 (GCC lowers the lane loops to vector instructions).
+// Elementwise helpers for double and Double4 (GCC lowers the lane loops to vector instructions).
 [[gnu::always_inline]] inline double sqrt_of(double x) { return std::sqrt(x); }
 [[gnu::always_inline]] inline double abs_of(double x) { return std::fabs(x); }
 [[gnu::always_inline]] inline double min_of(double a, double b) { return a < b ? a : b; }
@@ -269,6 +269,14 @@ struct WavelengthScales {
     double lambda_squared = 0.0;
 };
 
+// Whether a kernel is within its cut at λ: λ² ≥ λ_k², written !(λ² < λ_k²) so that a NaN λ_k²
+// counts as within (T: double, or Double4/Double8 giving a lane mask). The one rule of the sums
+// and of count_within_cut.
+template <typename T>
+[[gnu::always_inline]] inline auto within_cut(const T& lambda_squared, const T& first_wavelength_squared) {
+    return !(lambda_squared < first_wavelength_squared);
+}
+
 // Lanes [0, 8) or [8, 16) of a Single16 (or [0, 4), [4, 8) of a Single8) in double.
 template <typename F>
 [[gnu::always_inline]] inline auto half_in_double(const F& v, int half) {
@@ -305,9 +313,8 @@ template <typename F, typename D>
 [[gnu::always_inline]] inline void add_single_step(const WavelengthFreeTerms& t, std::size_t i, std::size_t valid,
                                                    const WavelengthScales& w, F& sum_re, F& sum_im) {
     constexpr std::size_t n = sizeof(F) / sizeof(float);
-    // Within its cut at λ where !(λ² < λ_k²) (NaN counts as within, as it always has).
     const auto reaches = [&](std::size_t at) __attribute__((always_inline)) {
-        return !(D{} + w.lambda_squared < gabor_math::lanes<D>(&t.first_wavelength_squared[at]));
+        return within_cut(D{} + w.lambda_squared, gabor_math::lanes<D>(&t.first_wavelength_squared[at]));
     };
     const auto load = [i](const std::vector<float>& array) __attribute__((always_inline)) {
         F v;
@@ -675,7 +682,7 @@ std::complex<double> sum_wavelength_free_terms(const WavelengthFreeTerms& terms,
 std::size_t count_within_cut(const WavelengthFreeTerms& terms, std::size_t end, double lambda_um) {
     const double lambda_squared = lambda_um * lambda_um;
     std::size_t count = 0;
-    for (std::size_t k = 0; k < end; ++k) count += !(lambda_squared < terms.first_wavelength_squared[k]);
+    for (std::size_t k = 0; k < end; ++k) count += within_cut(lambda_squared, terms.first_wavelength_squared[k]);
     return count;
 }
 
