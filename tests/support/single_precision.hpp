@@ -1,6 +1,7 @@
 #pragma once
-// Tolerances for comparing GaborSurface's spectral second-order query, whose terms are single
-// precision (gabor_kernels.hpp, sum_wavelength_free_terms), with a double path. A term's error is
+// Tolerances for comparing GaborSurface's second-order queries, whose terms are single precision
+// (gabor_kernels.hpp: sum_wavelength_free_terms for several wavelengths,
+// sum_chirped_transforms_single for one), with a double path. A term's error is
 // below 2^−20 of its size, so a wavelength's sum S moves by δ ≤ 2^−20 Σ_k |t_k| and f = c|S|² by
 // at most c(2|S|δ + δ²). The terms' magnitudes are not visible from outside; across a lobe they
 // add incoherently, so Σ|t_k| ≈ √n |S| where f is near the lobe's brightest: the bound used here

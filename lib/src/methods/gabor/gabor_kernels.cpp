@@ -1,6 +1,7 @@
 #include "gabor_kernels.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -304,11 +305,72 @@ template <typename F, typename D>
     }
 }
 
-// One step of n (8 or 16) terms i … i + n − 1 (those from `valid` on left out), in single
-// precision but for the phase: ξ3 H_k/λ + m_k·v = phase/λ turns, up to hundreds, is reduced to
-// [−½, ½] in double first. add_chirped_term's term from the kernel's wavelength-free factors
-// (WavelengthFreeTerms), with β uᵀM⁻¹u = β uᵀ adj(M) u / det M, adj(M) = I + i adj(E); its cut a
-// lane mask (kernels with λ² < λ_k² left out). Added to sum_re and sum_im.
+// The lane mask of F (32-bit lanes: −1 where set) from two double vectors' compare results.
+template <typename F>
+using SingleMask = std::conditional_t<sizeof(F) == 64, gabor_math::Int16, gabor_math::Int8>;
+
+template <typename F, typename M>
+[[gnu::always_inline]] inline SingleMask<F> joined_mask(const M& low, const M& high) {
+    if constexpr (sizeof(F) == 64)
+        return __builtin_convertvector(
+            __builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15), SingleMask<F>);
+    else
+        return __builtin_convertvector(__builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7), SingleMask<F>);
+}
+
+// Lanes from `valid` on cleared.
+template <typename F>
+[[gnu::always_inline]] inline SingleMask<F> first_lanes(SingleMask<F> mask, std::size_t valid) {
+    constexpr std::size_t n = sizeof(F) / sizeof(float);
+    if (valid < n) {
+        SingleMask<F> lane{};
+        for (std::size_t k = 0; k < n; ++k) lane[k] = static_cast<std::int32_t>(k);
+        mask &= lane < static_cast<std::int32_t>(valid);
+    }
+    return mask;
+}
+
+// One step's terms in single precision: their wavelength-free factors (WavelengthFreeTerms'
+// meaning, at the step's wavelength), the fraction of a turn of ξ3 H_k/λ + m_k·v (reduced in
+// double), and the lanes within the cut.
+template <typename F>
+struct SingleStep {
+    F fraction, length_squared, adjugate_form, determinant, trace, weight;
+    SingleMask<F> within;
+};
+
+// add_chirped_term's terms from a SingleStep, with β uᵀM⁻¹u = β uᵀ adj(M) u / det M,
+// adj(M) = I + i adj(E); lanes outside `within` left out. Added to sum_re and sum_im.
+template <typename F>
+[[gnu::always_inline]] inline void add_single_terms(const SingleStep<F>& t, const WavelengthScales& w, F& sum_re,
+                                                    F& sum_im) {
+    const F det_re = 1.0f - static_cast<float>(w.s_squared) * t.determinant;
+    const F det_im = static_cast<float>(w.s) * t.trace;
+    const DeterminantRoots<F> roots = determinant_roots(det_re, det_im);
+    const F num_re = static_cast<float>(w.beta_over_lambda2) * t.length_squared;
+    const F num_im = static_cast<float>(w.beta_s_over_lambda2) * t.adjugate_form;
+    const F q_re = (num_re * det_re + num_im * det_im) * roots.inverse_norm2;
+    const F q_im = (num_im * det_re - num_re * det_im) * roots.inverse_norm2;
+    // As in add_chirped_term: e^{−25} stands for anything smaller inside the widened box.
+    F amplitude = t.weight * gabor_math::exp_neg_single(q_re < 25.0f ? q_re : F{} + 25.0f) * roots.inverse_abs;
+    amplitude = t.within != 0 ? amplitude : F{};
+    F cos_phase;
+    F sin_phase;
+    gabor_math::cos_sin_turns_single(t.fraction + static_cast<float>(0.5 / pi) * q_im, cos_phase, sin_phase);
+    // det^{−1/2} = conj(√det)/|det|.
+    sum_re += amplitude * (cos_phase * roots.root_re - sin_phase * roots.root_im);
+    sum_im -= amplitude * (sin_phase * roots.root_re + cos_phase * roots.root_im);
+}
+
+// The fraction of a turn in [−½, ½] of `turns` (|turns| < 2^51).
+template <typename D>
+[[gnu::always_inline]] inline D turn_fraction(const D& turns) {
+    return turns - ((turns + 6755399441055744.0) - 6755399441055744.0);  // 1.5 · 2^52
+}
+
+// One step of n (8 or 16) terms i … i + n − 1 (those from `valid` on left out) of WavelengthFreeTerms
+// at wavelength λ: ξ3 H_k/λ + m_k·v = phase/λ turns, up to hundreds, is reduced in double; the cut
+// is a lane mask (kernels with λ² < λ_k² left out). Added to sum_re and sum_im.
 template <typename F, typename D>
 [[gnu::always_inline]] inline void add_single_step(const WavelengthFreeTerms& t, std::size_t i, std::size_t valid,
                                                    const WavelengthScales& w, F& sum_re, F& sum_im) {
@@ -321,40 +383,18 @@ template <typename F, typename D>
         std::memcpy(&v, &array[i], sizeof v);
         return v;
     };
-    const auto turns_fraction = [&](std::size_t at) __attribute__((always_inline)) {
-        const D turns = gabor_math::lanes<D>(&t.phase[at]) * w.inverse_lambda;
-        return turns - ((turns + 6755399441055744.0) - 6755399441055744.0);  // 1.5 · 2^52
+    const auto fraction = [&](std::size_t at) __attribute__((always_inline)) {
+        return turn_fraction(gabor_math::lanes<D>(&t.phase[at]) * w.inverse_lambda);
     };
-    const F fraction = joined_in_single<F>(turns_fraction(i), turns_fraction(i + n / 2));
-    const F det_re = 1.0f - static_cast<float>(w.s_squared) * load(t.determinant);
-    const F det_im = static_cast<float>(w.s) * load(t.trace);
-    const DeterminantRoots<F> roots = determinant_roots(det_re, det_im);
-    const F num_re = static_cast<float>(w.beta_over_lambda2) * load(t.length_squared);
-    const F num_im = static_cast<float>(w.beta_s_over_lambda2) * load(t.adjugate_form);
-    const F q_re = (num_re * det_re + num_im * det_im) * roots.inverse_norm2;
-    const F q_im = (num_im * det_re - num_re * det_im) * roots.inverse_norm2;
-    // As in add_chirped_term: e^{−25} stands for anything smaller inside the widened box.
-    F amplitude = load(t.weight) * gabor_math::exp_neg_single(q_re < 25.0f ? q_re : F{} + 25.0f) * roots.inverse_abs;
-    using Mask = std::conditional_t<sizeof(F) == 64, gabor_math::Int16, gabor_math::Int8>;
-    const auto low = reaches(i), high = reaches(i + n / 2);  // 64-bit lanes: −1 where reached
-    Mask within;
-    if constexpr (n == 16)
-        within = __builtin_convertvector(
-            __builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15), Mask);
-    else
-        within = __builtin_convertvector(__builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7), Mask);
-    if (valid < n) {
-        Mask lane{};
-        for (std::size_t k = 0; k < n; ++k) lane[k] = static_cast<std::int32_t>(k);
-        within &= lane < static_cast<std::int32_t>(valid);
-    }
-    amplitude = within != 0 ? amplitude : F{};
-    F cos_phase;
-    F sin_phase;
-    gabor_math::cos_sin_turns_single(fraction + static_cast<float>(0.5 / pi) * q_im, cos_phase, sin_phase);
-    // det^{−1/2} = conj(√det)/|det|.
-    sum_re += amplitude * (cos_phase * roots.root_re - sin_phase * roots.root_im);
-    sum_im -= amplitude * (sin_phase * roots.root_re + cos_phase * roots.root_im);
+    SingleStep<F> step;
+    step.fraction = joined_in_single<F>(fraction(i), fraction(i + n / 2));
+    step.length_squared = load(t.length_squared);
+    step.adjugate_form = load(t.adjugate_form);
+    step.determinant = load(t.determinant);
+    step.trace = load(t.trace);
+    step.weight = load(t.weight);
+    step.within = first_lanes<F>(joined_mask<F>(reaches(i), reaches(i + n / 2)), valid);
+    add_single_terms(step, w, sum_re, sum_im);
 }
 
 template <typename F, typename D>
@@ -442,6 +482,113 @@ void fill_wavelength_free_terms(std::size_t n, const KernelColumns k, const Term
         const double spread = spread_scale * spectral_radius(k.hxx[i], k.hxy[i], k.hyy[i]);
         t.first_wavelength_squared[i] = (ux2 > uy2 ? ux2 : uy2) * inverse_reach2 - spread * spread;
     }
+}
+
+// One step of n (8 or 16) second-order terms i … i + n − 1 of `k` at one (ω_i, ω_o, λ) (those
+// from `valid` on left out), in single precision as add_single_step's: the factors that depend on
+// H' and H'' and the phase's fraction of a turn in double, then rounded; the cut decided in double
+// with add_chirped_term's arithmetic, so the same kernels are within it.
+template <typename F, typename D>
+[[gnu::always_inline]] inline SingleStep<F> kernel_step(const KernelColumns& k, std::size_t i, std::size_t valid,
+                                                        const TransformPoint& point, double reach2,
+                                                        double chirp_scale) {
+    constexpr std::size_t n = sizeof(F) / sizeof(float);
+    const double e = chirp_scale * point.xi3_over_lambda;
+    struct Half {
+        D length_squared, adjugate_form, determinant, trace, weight, fraction;
+        decltype(D{} < D{}) within;
+    };
+    const auto half = [&](std::size_t at) __attribute__((always_inline)) {
+        using gabor_math::lanes;
+        const D slope_x = lanes<D>(k.slope_x + at), slope_y = lanes<D>(k.slope_y + at);
+        const D hxx = lanes<D>(k.hxx + at), hxy = lanes<D>(k.hxy + at), hyy = lanes<D>(k.hyy + at);
+        const D ux = point.vx + point.xi3_over_lambda * slope_x;  // v + a_k (Yan 2018 eq. 15)
+        const D uy = point.vy + point.xi3_over_lambda * slope_y;
+        const D ux2 = ux * ux;
+        const D uy2 = uy * uy;
+        Half h;
+        h.length_squared = ux2 + uy2;
+        h.adjugate_form = hyy * ux2 - 2.0 * hxy * ux * uy + hxx * uy2;
+        h.determinant = hxx * hyy - hxy * hxy;
+        h.trace = hxx + hyy;
+        h.weight = lanes<D>(k.weight + at) * (1.0 - point.xi2_gx * slope_x - point.xi2_gy * slope_y);
+        h.fraction = turn_fraction(point.xi3_over_lambda * lanes<D>(k.height + at) + lanes<D>(k.px + at) * point.vx +
+                                   lanes<D>(k.py + at) * point.vy);
+        const D exx = e * hxx, exy = e * hxy, eyy = e * hyy;
+        const D half_difference = 0.5 * (exx - eyy);
+        const D mean = 0.5 * (exx + eyy);
+        D radius;
+        const D radius_squared = half_difference * half_difference + exy * exy;
+        for (std::size_t lane = 0; lane < n / 2; ++lane) radius[lane] = std::sqrt(radius_squared[lane]);
+        const D epsilon = (mean < 0.0 ? -mean : mean) + radius;
+        const D reach2_k = reach2 * (1.0 + epsilon * epsilon);
+        h.within = (ux2 > uy2 ? ux2 : uy2) <= reach2_k;  // both within: one compare, which GCC keeps in vectors
+        return h;
+    };
+    const Half low = half(i), high = half(i + n / 2);
+    SingleStep<F> step;
+    step.fraction = joined_in_single<F>(low.fraction, high.fraction);
+    step.length_squared = joined_in_single<F>(low.length_squared, high.length_squared);
+    step.adjugate_form = joined_in_single<F>(low.adjugate_form, high.adjugate_form);
+    step.determinant = joined_in_single<F>(low.determinant, high.determinant);
+    step.trace = joined_in_single<F>(low.trace, high.trace);
+    step.weight = joined_in_single<F>(low.weight, high.weight);
+    step.within = first_lanes<F>(joined_mask<F>(low.within, high.within), valid);
+    return step;
+}
+
+// Σ over second-order kernels [0, end) at one wavelength, each term in single precision
+// (kernel_step), summed as sum_single sums: kStepsInSingle steps in single, then in double. The
+// last, partial step reads a zero-padded copy of its kernels.
+template <typename F, typename D>
+[[gnu::always_inline]] inline void sum_kernels_single(const KernelColumns& k, std::size_t end,
+                                                      const TransformPoint& point, double reach2, double beta,
+                                                      double chirp_scale, double& out_re, double& out_im) {
+    constexpr std::size_t n = sizeof(F) / sizeof(float);
+    constexpr std::size_t kStepsInSingle = 4;
+    WavelengthScales scales;  // at the query's own wavelength: E = s H'', β uᵀu and β uᵀ adj(E) u
+    scales.s = chirp_scale * point.xi3_over_lambda;
+    scales.s_squared = scales.s * scales.s;
+    scales.beta_over_lambda2 = beta;
+    scales.beta_s_over_lambda2 = beta * scales.s;
+    D sum_re = D{} + 0.0;
+    D sum_im = sum_re;
+    const auto add_steps = [&](const KernelColumns& columns, std::size_t first, std::size_t steps,
+                               std::size_t valid_in_last) __attribute__((always_inline)) {
+        F re = F{} + 0.0f;
+        F im = re;
+        for (std::size_t s = 0; s < steps; ++s)
+            add_single_terms(kernel_step<F, D>(columns, first + s * n, s + 1 == steps ? valid_in_last : n, point,
+                                               reach2, chirp_scale),
+                             scales, re, im);
+        sum_re += half_in_double(re, 0) + half_in_double(re, 1);
+        sum_im += half_in_double(im, 0) + half_in_double(im, 1);
+    };
+    std::size_t i = 0;
+    for (; i + kStepsInSingle * n <= end; i += kStepsInSingle * n) add_steps(k, i, kStepsInSingle, n);
+    for (; i + n <= end; i += n) add_steps(k, i, 1, n);
+    if (i < end) {
+        std::array<std::array<double, n>, 9> padded{};
+        const double* const from[9] = {k.px, k.py, k.height, k.slope_x, k.slope_y, k.weight, k.hxx, k.hxy, k.hyy};
+        for (std::size_t a = 0; a < 9; ++a) std::copy(from[a] + i, from[a] + end, padded[a].begin());
+        const KernelColumns tail{padded[0].data(), padded[1].data(), padded[2].data(), padded[3].data(), padded[4].data(),
+                                 padded[5].data(), padded[6].data(), padded[7].data(), padded[8].data()};
+        add_steps(tail, 0, 1, end - i);
+    }
+    out_re = gabor_math::lane_total(sum_re);
+    out_im = gabor_math::lane_total(sum_im);
+}
+
+GLINTSCOPE_OUT_OF_LINE_CLONES
+void sum_kernels_single8(const KernelColumns& k, std::size_t end, const TransformPoint& point, double reach2,
+                         double beta, double chirp_scale, double& out_re, double& out_im) {
+    sum_kernels_single<Single8, Double4>(k, end, point, reach2, beta, chirp_scale, out_re, out_im);
+}
+
+GLINTSCOPE_AVX512
+void sum_kernels_single16(const KernelColumns& k, std::size_t end, const TransformPoint& point, double reach2,
+                          double beta, double chirp_scale, double& out_re, double& out_im) {
+    sum_kernels_single<Single16, gabor_math::Double8>(k, end, point, reach2, beta, chirp_scale, out_re, out_im);
 }
 
 template <bool SlopeFactor>
@@ -676,6 +823,18 @@ std::complex<double> sum_wavelength_free_terms(const WavelengthFreeTerms& terms,
     double re = 0.0;
     double im = 0.0;
     (cpu_runs_avx512() ? sum_single16 : sum_single8)(terms, end, scales, re, im);
+    return {re, im};
+}
+
+std::complex<double> sum_chirped_transforms_single(const KernelArrays& kernels, std::size_t end,
+                                                  const TransformPoint& point, const KernelGrid& grid) {
+    const KernelColumns in{kernels.px.data(),           kernels.py.data(),           kernels.height.data(),
+                           kernels.slope_x.data(),      kernels.slope_y.data(),      kernels.weight.data(),
+                           kernels.curvature_xx.data(), kernels.curvature_xy.data(), kernels.curvature_yy.data()};
+    double re = 0.0;
+    double im = 0.0;
+    (cpu_runs_avx512() ? sum_kernels_single16 : sum_kernels_single8)(in, end, point, grid.reach * grid.reach,
+                                                                     grid.beta, grid.chirp_scale, re, im);
     return {re, im};
 }
 

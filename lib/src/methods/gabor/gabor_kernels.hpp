@@ -244,6 +244,14 @@ TransformPoint transform_point(DiffractionModel model, const FresnelAtWavelength
 std::complex<double> sum_transforms(const KernelArrays& kernels, std::size_t begin, std::size_t end,
                                     const TransformPoint& point, const KernelGrid& grid);
 
+// sum_transforms of second-order kernels [0, end), each term in single precision as
+// sum_wavelength_free_terms computes it (the phase reduced to [−½, ½] turn and the factors that
+// depend on H' and H'' in double first), within 2^−20 of its size; the cut is decided in double
+// with sum_transforms' arithmetic, so exactly its kernels are summed. 16 terms per step with
+// AVX-512, 8 without.
+std::complex<double> sum_chirped_transforms_single(const KernelArrays& kernels, std::size_t end,
+                                                  const TransformPoint& point, const KernelGrid& grid);
+
 // Second-order terms of one (ω_i, ω_o) prepared for sums at several wavelengths. With ψ = ω_i + ω_o
 // and U_k = ψ + ξ3 H'_k, a term depends on λ only through 1/λ and s = 2πσ²ξ3/λ (E = s H''_k):
 //   u = v + a_k = U_k/λ,   uᵀ adj(M) u = (|U|² + i s Uᵀ adj(H'') U)/λ²,

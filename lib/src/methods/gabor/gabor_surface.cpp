@@ -1305,7 +1305,8 @@ double brdf_of_kernels(const GaborPointQuery& query, const gabor::KernelArrays& 
                        double lambda_um, const gabor::KernelGrid& grid, double area_um2,
                        GaborQueryStatistics* statistics) {
     return brdf_of_sum(query, end, lambda_um, area_um2, statistics, [&](const gabor::TransformPoint& point) {
-        return gabor::sum_transforms(kernels, 0, end, point, grid);
+        return grid.order == 2 ? gabor::sum_chirped_transforms_single(kernels, end, point, grid)
+                               : gabor::sum_transforms(kernels, 0, end, point, grid);
     });
 }
 

@@ -137,6 +137,14 @@ struct RepeatedKernel {
         }
         return kernels;
     }
+    // The sums' constants at v (ξ2 = 1).
+    gabor::TransformPoint point(Point2 v, double lambda) const {
+        gabor::TransformPoint at;
+        at.vx = v.x;
+        at.vy = v.y;
+        at.xi3_over_lambda = xi3 / lambda;
+        return at;
+    }
     // The kernel's literal term at v, as the sums give it: measured from x_c and H_ref.
     Complex literal(Point2 v, double lambda) const {
         const GaborCellKernel kernel = gabor_cell_kernel(centre, cell, at_centre, curvature, 1.0, xi3, lambda);
@@ -152,12 +160,34 @@ TEST(ChirpedGaborKernel, SummedTermEqualsLiteralTransform) {
     const gabor::KernelArrays kernels = one.copies(5);  // four in SIMD lanes, one in the scalar tail
     for (const Point2 v : {Point2{-0.9, 0.5}, Point2{-0.6, 0.2}, Point2{0.4, 0.1}}) {
         const Complex expected = one.literal(v, lambda);
-        gabor::TransformPoint point;
-        point.vx = v.x;
-        point.vy = v.y;
-        point.xi3_over_lambda = one.xi3 / lambda;
+        const gabor::TransformPoint point = one.point(v, lambda);
         EXPECT_LT(std::abs(gabor::sum_transforms(kernels, 0, 4, point, grid) - 4.0 * expected), 4e-9 * std::abs(expected));
         EXPECT_LT(std::abs(gabor::sum_transforms(kernels, 4, 5, point, grid) - expected), 1e-9 * std::abs(expected));
+    }
+}
+
+// The single-wavelength sum in single precision (GaborSurface's point query at second order:
+// steps of 16 terms with AVX-512, 8 without, four steps summed in single before double, and a
+// zero-padded last step) against the same literal transform: counts that fill whole groups of four
+// steps, single steps, and leave tails of 1 to 15. Beyond its cut (v far outside the kernel's
+// widened reach) the kernel is left out exactly, as in the double sum.
+TEST(ChirpedGaborKernel, SinglePrecisionSumEqualsLiteralTransform) {
+    const RepeatedKernel one;
+    const double lambda = 0.45;
+    const gabor::KernelGrid grid = one.grid();
+    for (const int count : {1, 7, 9, 16, 17, 31, 64, 65, 79, 80, 100}) {
+        const gabor::KernelArrays kernels = one.copies(count);
+        for (const Point2 v : {Point2{-0.9, 0.5}, Point2{-0.6, 0.2}, Point2{0.4, 0.1}}) {
+            const Complex expected = one.literal(v, lambda);
+            const Complex sum =
+                gabor::sum_chirped_transforms_single(kernels, kernels.size(), one.point(v, lambda), grid);
+            // Single precision (gabor_kernels.hpp): each equal term within 2^−20 of its size.
+            EXPECT_LT(std::abs(sum - double(count) * expected), std::ldexp(1.0, -20) * double(count) * std::abs(expected))
+                << count << " kernels, v " << v.x << ", " << v.y;
+        }
+        const gabor::TransformPoint beyond = one.point({10.0, 0.0}, lambda);  // u_x ≈ 10.8, widened reach ≈ 5.9
+        EXPECT_EQ(gabor::sum_transforms(kernels, 0, kernels.size(), beyond, grid), Complex(0.0));
+        EXPECT_EQ(gabor::sum_chirped_transforms_single(kernels, kernels.size(), beyond, grid), Complex(0.0));
     }
 }
 
@@ -331,9 +361,10 @@ TEST(ChirpedGaborSurface, PruningKeepsExactlyTheKernelsWithinTheirOwnReach) {
             const gabor::TransformPoint at =
                 gabor::transform_point(point.model, gabor::FresnelAtWavelength({}, lambda), point.omega_i,
                                        point.omega_o, lambda, window.area_um2());
-            double weights = 0.0;
+            double term_bound = 0.0;  // Σ_k |w_k l² ξ2|, which bounds Σ_k |t_k| (e^{−Re q} ≤ 1, |det M| ≥ 1)
             for (std::size_t k = 0; k < every.size(); ++k) {
-                weights += every.weight[k];
+                term_bound +=
+                    every.weight[k] * std::fabs(1.0 - at.xi2_gx * every.slope_x[k] - at.xi2_gy * every.slope_y[k]);
                 const double ux = at.vx + at.xi3_over_lambda * every.slope_x[k];
                 const double uy = at.vy + at.xi3_over_lambda * every.slope_y[k];
                 const double epsilon =
@@ -343,8 +374,12 @@ TEST(ChirpedGaborSurface, PruningKeepsExactlyTheKernelsWithinTheirOwnReach) {
                 within += ux * ux <= reach2 && uy * uy <= reach2;
             }
             const double unpruned = at.brdf_scale * std::norm(gabor::sum_transforms(every, 0, every.size(), at, grid));
-            // The two sums differ in their order only: rounding of ~1e-16 of Σ w_k per term.
-            EXPECT_NEAR(pruned, unpruned, 1e-9 * unpruned + 1e-12 * at.brdf_scale * weights * weights)
+            // The point query's terms are single precision (gabor::sum_chirped_transforms_single): S
+            // within δ = 2^−20 Σ|t_k| of the double sum, so f within c(2|S|δ + δ²). A kernel dropped or
+            // added would move f by far more.
+            const double delta = std::ldexp(1.0, -20) * term_bound;
+            EXPECT_NEAR(pruned, unpruned,
+                        at.brdf_scale * (2.0 * std::sqrt(unpruned / at.brdf_scale) * delta + delta * delta))
                 << "offset " << offset_um << " scale " << scale << " trial " << trial;
         }
         EXPECT_GE(summed, within) << "offset " << offset_um << " scale " << scale;
