@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "gabor_kernels.hpp"
@@ -508,25 +509,32 @@ using Double8 = double __attribute__((vector_size(64)));
     return half == 0 ? __builtin_shufflevector(all, all, 0, 1, 2, 3) : __builtin_shufflevector(all, all, 4, 5, 6, 7);
 }
 
-// Four kernels of a row (the lanes of one half of a SampleStencil) as the sum reads them (p_y is the row's).
-struct KernelLanes {
-    Double4 px, height, slope_x, slope_y, weight, curvature_xx, curvature_xy, curvature_yy;
+// Kernels of a row in the lanes of V (Double4: four, one half of a SampleStencil; Double8: a
+// leaf's eight, with AVX-512) as the sum reads them (p_y is the row's).
+template <typename V>
+struct KernelVectors {
+    V px, height, slope_x, slope_y, weight, curvature_xx, curvature_xy, curvature_yy;
 };
+using KernelLanes = KernelVectors<Double4>;
+using WideLeafKernels = KernelVectors<Double8>;
 
-// The kernels at columns c0 + 4·half … + 3: p relative to x_c, H − H(x_c), H' as sample_point()'s
+// The kernels at columns first, first + 1, … (one per lane of V), whose samples in_double() takes
+// from the stencil's lanes: p relative to x_c, H − H(x_c), H' as sample_point()'s
 // (−½H(c − 1) + ½H(c + 1))/dx, computed as (H(c + 1) − H(c − 1))·(½/dx), which rounds identically
-// (halving is exact), w_k l², and at second order H'' with sample_curvature()'s arithmetic.
-[[gnu::always_inline]] inline KernelLanes kernel_lanes(const SampledRow& r, int c0, int half, const SampleStencil& s,
-                                                       bool chirped) {
-    const int first = c0 + 4 * half;
-    const auto in_double = [half](const Float8& v) { return half_in_double(v, half); };
-    KernelLanes k;
-    k.px = (double(first) + Double4{0.5, 1.5, 2.5, 3.5}) * r.texel_um - r.centre_x;
-    const Double4 mid = in_double(s.mid);
-    const Double4 left = in_double(s.left);
-    const Double4 right = in_double(s.right);
-    const Double4 down = in_double(s.down);
-    const Double4 up = in_double(s.up);
+// (halving is exact), w_k l², and at second order H'' with sample_curvature()'s arithmetic. The
+// same arithmetic lane for lane at either width, so the same values.
+template <typename V, typename InDouble>
+[[gnu::always_inline]] inline KernelVectors<V> kernel_vectors(const SampledRow& r, int first, const SampleStencil& s,
+                                                              bool chirped, const InDouble& in_double) {
+    KernelVectors<V> k;
+    V offsets;  // 0.5, 1.5, …: the kernel centres within their texels
+    for (std::size_t lane = 0; lane < sizeof(V) / sizeof(double); ++lane) offsets[lane] = double(lane) + 0.5;
+    k.px = (double(first) + offsets) * r.texel_um - r.centre_x;
+    const V mid = in_double(s.mid);
+    const V left = in_double(s.left);
+    const V right = in_double(s.right);
+    const V down = in_double(s.down);
+    const V up = in_double(s.up);
     k.height = mid - r.reference_height;
     k.slope_x = (right - left) * r.half_inverse_texel;
     k.slope_y = (up - down) * r.half_inverse_texel;
@@ -549,7 +557,72 @@ struct LeafKernels {
 
 [[gnu::always_inline]] inline LeafKernels leaf_kernels(const SampledRow& r, int c0, const SampleStencil& s,
                                                        bool chirped) {
-    return {{kernel_lanes(r, c0, 0, s, chirped), kernel_lanes(r, c0, 1, s, chirped)}};
+    const auto half = [&](int h) __attribute__((always_inline)) {
+        return kernel_vectors<Double4>(r, c0 + 4 * h, s, chirped,
+                                       [h](const Float8& v) __attribute__((always_inline)) { return half_in_double(v, h); });
+    };
+    return {{half(0), half(1)}};
+}
+
+// With AVX-512: a leaf's eight kernels in one vector per quantity, written with one permutation
+// and one store per array.
+[[gnu::always_inline]] inline WideLeafKernels wide_leaf_kernels(const SampledRow& r, int c0, const SampleStencil& s,
+                                                                bool chirped) {
+    // Inlined, so that the conversion stays in the AVX-512 function (as in builds that inline less).
+    return kernel_vectors<Double8>(r, c0, s, chirped, [](const Float8& v) __attribute__((always_inline)) {
+        return __builtin_convertvector(v, Double8);
+    });
+}
+
+using Int64x8 = long long __attribute__((vector_size(64)));
+
+// For each 8-bit mask, the lanes whose bits are set, in order, then lane 0 repeated.
+constexpr std::array<std::array<unsigned char, 8>, 256> kSetLanesFirst8 = [] {
+    std::array<std::array<unsigned char, 8>, 256> table{};
+    for (int bits = 0; bits < 256; ++bits) {
+        int slot = 0;
+        for (int lane = 0; lane < 8; ++lane)
+            if (bits >> lane & 1) table[bits][slot++] = static_cast<unsigned char>(lane);
+    }
+    return table;
+}();
+
+// Writes the kernels of the lanes whose bits are set to slots[at …] in column order and returns
+// how many: one eight-lane permutation per array (one instruction where the CPU has AVX-512,
+// where the two halves of write_lanes below take two), writing eight slots.
+[[gnu::always_inline]] inline std::size_t write_lanes(const SampledRow& r, const WideLeafKernels& k, unsigned bits,
+                                                      bool chirped, const KernelSlots& slots, std::size_t at) {
+    using Bytes8 = unsigned char __attribute__((vector_size(8)));
+    Bytes8 packed;
+    std::memcpy(&packed, kSetLanesFirst8[bits].data(), sizeof packed);
+    const Int64x8 order = __builtin_convertvector(packed, Int64x8);
+    const auto store = [&](const Double8& v, double* __restrict out) __attribute__((always_inline)) {
+        const Double8 moved = __builtin_shuffle(v, order);
+        std::memcpy(out, &moved, sizeof moved);
+    };
+    const Double8 py = Double8{} + r.py;
+    std::memcpy(slots.py + at, &py, sizeof py);  // every lane the same: nothing to move
+    store(k.px, slots.px + at);
+    store(k.height, slots.height + at);
+    store(k.slope_x, slots.slope_x + at);
+    store(k.slope_y, slots.slope_y + at);
+    store(k.weight, slots.weight + at);
+    if (chirped) {
+        store(k.curvature_xx, slots.curvature_xx + at);
+        store(k.curvature_xy, slots.curvature_xy + at);
+        store(k.curvature_yy, slots.curvature_yy + at);
+    }
+    return static_cast<std::size_t>(std::popcount(bits));
+}
+
+// A leaf's kernels as Kernels holds them.
+template <typename Kernels>
+[[gnu::always_inline]] inline Kernels leaf_kernels_of(const SampledRow& r, int c0, const SampleStencil& s,
+                                                      bool chirped) {
+    if constexpr (std::is_same_v<Kernels, WideLeafKernels>)
+        return wide_leaf_kernels(r, c0, s, chirped);
+    else
+        return leaf_kernels(r, c0, s, chirped);
 }
 
 // Writes the kernels of the lanes whose bits are set (bit k: column c0 + k) to slots[at …], in
@@ -583,7 +656,7 @@ struct LeafKernels {
 // branch on the outcome (a branch at the end of the test's long chain of arithmetic would be
 // mispredicted for about a quarter of the leaves); then the listed leaves' kernels are written
 // from their samples, loaded again.
-template <typename Passes>
+template <typename Kernels, typename Passes>
 [[gnu::always_inline]] inline std::size_t append_passing(const SampledRow& row, bool chirped, const Passes& passes,
                                                          gabor::KernelArrays& kernels) {
     PassingLeaf* const passing = row.passing_leaves;
@@ -601,39 +674,68 @@ template <typename Passes>
         const int c0 = passing[k].c0;
         const SampleStencil samples =
             sample_stencil(r.below, r.row, r.above, c0, std::min(kLeafKernels, r.cols - c0), r.cols, chirped);
-        count += write_lanes(r, leaf_kernels(r, c0, samples, chirped), passing[k].bits, chirped, slots, count);
+        count += write_lanes(r, leaf_kernels_of<Kernels>(r, c0, samples, chirped), passing[k].bits, chirped, slots,
+                             count);
     }
     kernels.extend(count);
     return count;
 }
 
 // append_passing compiled for each kind of test alone: difference bounds, and (second order) each
-// kernel's own chirped reach. The tests are taken by value, so that the kernels' stores cannot
-// alias them.
+// kernel's own chirped reach; Kernels: WideLeafKernels (AVX-512 only) or LeafKernels. The tests
+// are taken by value, so that the kernels' stores cannot alias them.
+template <typename Kernels>
+[[gnu::always_inline]] inline std::size_t append_bounded(const SampledRow& row, const DifferenceBounds& bounds,
+                                                         gabor::KernelArrays& kernels) {
+    const auto passes = [&](const SampleLanes& lanes) { return differences_within(lanes, bounds); };
+    return row.chirped ? append_passing<Kernels>(row, true, passes, kernels)
+                       : append_passing<Kernels>(row, false, passes, kernels);
+}
+
+template <typename Kernels>
+[[gnu::always_inline]] inline std::size_t append_chirped(const SampledRow& row, const ChirpedDifferenceTest& test,
+                                                         gabor::KernelArrays& kernels) {
+    return append_passing<Kernels>(row, true, [&](const SampleLanes& lanes) { return chirped_within(lanes, test); },
+                                   kernels);
+}
+
 GLINTSCOPE_OUT_OF_LINE_CLONES
 std::size_t append_row_survivors(const SampledRow& row, const DifferenceBounds bounds, gabor::KernelArrays& kernels) {
-    const auto passes = [&](const SampleLanes& lanes) { return differences_within(lanes, bounds); };
-    return row.chirped ? append_passing(row, true, passes, kernels) : append_passing(row, false, passes, kernels);
+    return append_bounded<LeafKernels>(row, bounds, kernels);
+}
+
+GLINTSCOPE_AVX512
+std::size_t append_row_survivors_avx512(const SampledRow& row, const DifferenceBounds bounds,
+                                        gabor::KernelArrays& kernels) {
+    return append_bounded<WideLeafKernels>(row, bounds, kernels);
 }
 
 GLINTSCOPE_OUT_OF_LINE_CLONES
 std::size_t append_chirped_row_survivors(const SampledRow& row, const ChirpedDifferenceTest test,
                                          gabor::KernelArrays& kernels) {
-    return append_passing(row, true, [&](const SampleLanes& lanes) { return chirped_within(lanes, test); }, kernels);
+    return append_chirped<LeafKernels>(row, test, kernels);
+}
+
+GLINTSCOPE_AVX512
+std::size_t append_chirped_row_survivors_avx512(const SampledRow& row, const ChirpedDifferenceTest test,
+                                                gabor::KernelArrays& kernels) {
+    return append_chirped<WideLeafKernels>(row, test, kernels);
 }
 
 // K = 1, several aims at once: each leaf's lanes once, then for each aim a of leaf_aims[leaf]
 // the kernels that pass aims[a].row_test, appended to its kernels; returns how many in all.
-GLINTSCOPE_OUT_OF_LINE_CLONES
-std::size_t append_row_survivors(const SampledRow& row, const std::uint64_t* leaf_aims, const Aim* aims,
-                                 std::size_t aim_count) {
+// Kernels: a leaf's kernels as WideLeafKernels (AVX-512 only) or as LeafKernels' two halves.
+template <typename Kernels>
+[[gnu::always_inline]] inline std::size_t append_survivors_of_aims(const SampledRow& row, const std::uint64_t* leaf_aims,
+                                                                   const Aim* aims, std::size_t aim_count) {
     std::array<KernelSlots, kMaxAims> slots;
     std::array<std::size_t, kMaxAims> counts{};
     for (std::size_t a = 0; a < aim_count; ++a) slots[a] = reserve_slots(*aims[a].kernels, row.leaf_count * kLeafKernels);
     // The leaf's kernels are computed once, when the first aim keeps one of them, and written for
     // every aim that keeps some.
-    const auto test_leaf = [&](const SampledRow& r, std::size_t leaf, int c0, unsigned chord, const SampleLanes& lanes) {
-        LeafKernels kernels;
+    const auto test_leaf = [&](const SampledRow& r, std::size_t leaf, int c0, unsigned chord, const SampleLanes& lanes)
+                               __attribute__((always_inline)) {
+        Kernels kernels;
         bool computed = false;
         for (std::uint64_t left = leaf_aims[leaf]; left != 0; left &= left - 1) {
             const int a = std::countr_zero(left);
@@ -642,7 +744,7 @@ std::size_t append_row_survivors(const SampledRow& row, const std::uint64_t* lea
                 chord & (test.chirped ? chirped_within(lanes, *test.chirped) : differences_within(lanes, test.bounds));
             if (bits == 0) continue;
             if (!computed) {
-                kernels = leaf_kernels(r, c0, lanes.samples, r.chirped);
+                kernels = leaf_kernels_of<Kernels>(r, c0, lanes.samples, r.chirped);
                 computed = true;
             }
             counts[a] += write_lanes(r, kernels, bits, r.chirped, slots[a], counts[a]);
@@ -655,6 +757,18 @@ std::size_t append_row_survivors(const SampledRow& row, const std::uint64_t* lea
         appended += counts[a];
     }
     return appended;
+}
+
+GLINTSCOPE_OUT_OF_LINE_CLONES
+std::size_t append_row_survivors(const SampledRow& row, const std::uint64_t* leaf_aims, const Aim* aims,
+                                 std::size_t aim_count) {
+    return append_survivors_of_aims<LeafKernels>(row, leaf_aims, aims, aim_count);
+}
+
+GLINTSCOPE_AVX512
+std::size_t append_row_survivors_avx512(const SampledRow& row, const std::uint64_t* leaf_aims, const Aim* aims,
+                                        std::size_t aim_count) {
+    return append_survivors_of_aims<WideLeafKernels>(row, leaf_aims, aims, aim_count);
 }
 
 // The directions of one walk, the Collector's policy. OneAim: a single direction (every render
@@ -679,6 +793,9 @@ public:
     // K = 1: appends the row's kernels that pass the aim's test to its kernels; returns how many.
     std::size_t append_survivors(const SampledRow& row, const Mask*) const {
         const RowTest& test = aim_.row_test;
+        if (cpu_runs_avx512())
+            return test.chirped ? append_chirped_row_survivors_avx512(row, *test.chirped, *aim_.kernels)
+                                : append_row_survivors_avx512(row, test.bounds, *aim_.kernels);
         return test.chirped ? append_chirped_row_survivors(row, *test.chirped, *aim_.kernels)
                             : append_row_survivors(row, test.bounds, *aim_.kernels);
     }
@@ -706,6 +823,7 @@ public:
     }
     // K = 1: appends to each aim's kernels the row's kernels that pass its test; returns how many in all.
     std::size_t append_survivors(const SampledRow& row, const Mask* leaf_aims) const {
+        if (cpu_runs_avx512()) return append_row_survivors_avx512(row, leaf_aims, aims_.data(), aims_.size());
         return append_row_survivors(row, leaf_aims, aims_.data(), aims_.size());
     }
 
