@@ -21,8 +21,8 @@
 
 // A wider clone for CPUs with AVX-512 (x86-64-v4: F, VL, DQ, BW, CD), called where
 // cpu_runs_avx512() says so. Kept apart from the clones above because its code is written for
-// 512-bit vectors (the spectral Gabor sum's sixteen single-precision lanes, gabor_math::Single16),
-// not compiled from the narrower source.
+// 512-bit vectors (the second-order Gabor sums' sixteen single-precision lanes,
+// gabor_math::Single16, and the walk's eight-kernel writes), not compiled from the narrower source.
 #define GLINTSCOPE_AVX512 [[gnu::noinline]] __attribute__((target("arch=x86-64-v4")))
 
 namespace glintscope {

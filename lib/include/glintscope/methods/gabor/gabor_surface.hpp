@@ -79,14 +79,14 @@ public:
     explicit GaborSurface(std::shared_ptr<const BicubicInterpolant> surface, GaborSettings settings = {});
 
     // f_r in sr⁻¹; 0 when ω_i or ω_o is below the horizon. Throws Error for a non-finite query
-    // or wavelength.
+    // or wavelength. At second order the terms are single precision, each within 2^−20 of its
+    // size (docs/gabor.md); first order sums in double.
     double f_r(const GaborPointQuery& query, double lambda_um, GaborQueryStatistics* statistics = nullptr) const;
 
     // f_r at several wavelengths: the hierarchy is traversed and the kernels interpolated once,
     // at the longest wavelength, whose directional reach in slope space is the widest; each
     // wavelength then sums the survivors that reach it (Yan 2018 §5 "Spectral rendering"). At
-    // second order, with two or more wavelengths, the terms are single precision: each is within
-    // 2^−20 of its size (docs/gabor.md); one wavelength, and first order, sum in double.
+    // second order the terms are single precision, as above.
     std::vector<double> f_r(const GaborPointQuery& query, const std::vector<double>& wavelengths_um,
                             GaborQueryStatistics* statistics = nullptr) const;
 
