@@ -597,7 +597,12 @@ constexpr std::array<std::array<unsigned char, 8>, 256> kSetLanesFirst8 = [] {
     std::memcpy(&packed, kSetLanesFirst8[bits].data(), sizeof packed);
     const Int64x8 order = __builtin_convertvector(packed, Int64x8);
     const auto store = [&](const Double8& v, double* __restrict out) __attribute__((always_inline)) {
+#if defined(__clang__)  // no variable __builtin_shuffle
+        Double8 moved;
+        for (int k = 0; k < 8; ++k) moved[k] = v[order[k]];
+#else
         const Double8 moved = __builtin_shuffle(v, order);
+#endif
         std::memcpy(out, &moved, sizeof moved);
     };
     const Double8 py = Double8{} + r.py;
