@@ -246,9 +246,9 @@ inline __attribute__((always_inline)) Double4 exp_nonpositive4(Double4 x) {
 
 // Σ_m P_m π T_x T_y/m e^{−(U² + V²)/(4m)}, D_1,m of Stam 1999 eq. 15, four terms per SIMD step
 // (the rest one by one), with the partial sums added in a fixed order.
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-double c1_series(const double* weights, const double* scale_over_m, const double* minus_quarter_over_m, int n,
-                 double u2_plus_v2) {
+inline __attribute__((always_inline)) double c1_series_in_lanes(const double* weights, const double* scale_over_m,
+                                                                const double* minus_quarter_over_m, int n,
+                                                                double u2_plus_v2) {
     Double4 sum4 = {0.0, 0.0, 0.0, 0.0};
     int j = 0;
     for (; j + 4 <= n; j += 4)
@@ -256,6 +256,15 @@ double c1_series(const double* weights, const double* scale_over_m, const double
     double sum = 0.0;
     for (; j < n; ++j) sum += weights[j] * scale_over_m[j] * std::exp(u2_plus_v2 * minus_quarter_over_m[j]);
     return ((sum4[0] + sum4[1]) + (sum4[2] + sum4[3])) + sum;
+}
+
+// c1_series_in_lanes compiled for AVX2 and without. Its vector helpers are called from the inlined
+// body, not from the clone itself: Clang 14 refuses a 256-bit vector passed by value from the AVX2
+// clone to a helper compiled without AVX, even one that is always inlined.
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+double c1_series(const double* weights, const double* scale_over_m, const double* minus_quarter_over_m, int n,
+                 double u2_plus_v2) {
+    return c1_series_in_lanes(weights, scale_over_m, minus_quarter_over_m, n, u2_plus_v2);
 }
 
 }  // namespace
