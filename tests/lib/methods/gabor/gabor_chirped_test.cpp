@@ -79,7 +79,10 @@ TEST(ChirpedGaborKernel, ParaboloidIsRepresentedExactlyByOneKernel) {
             field.at(row, col) = static_cast<float>(height({col + 0.5, field.rows - 1 - row + 0.5}));
     const BicubicInterpolant surface(field);
     const double xi2 = 0.9, xi3 = 1.7, lambda = 0.55;
-    for (const auto& [centre, cell] : {std::pair{Point2{20.5, 18.5}, 1.0}, std::pair{Point2{19.75, 20.25}, 0.5}}) {
+    for (const auto& [kernel_centre, kernel_cell] :
+         {std::pair{Point2{20.5, 18.5}, 1.0}, std::pair{Point2{19.75, 20.25}, 0.5}}) {
+        const Point2 centre = kernel_centre;  // plain variables for the lambda below: Clang 14 cannot capture bindings
+        const double cell = kernel_cell;
         const SurfaceCurvature curvature = surface.curvature(centre.x, centre.y);
         // float samples: the quadratic is reproduced to their rounding
         EXPECT_NEAR(curvature.d2h_dx2, pxx, 1e-4);
