@@ -462,19 +462,25 @@ constexpr std::array<std::array<int, 8>, 16> kSetLanesFirst = [] {
     return table;
 }();
 
+// v's lanes in the given order (lane k of the result is v[order[k]]): one permutation.
+template <typename V, typename Order>
+[[gnu::always_inline]] inline V permuted(const V& v, const Order& order) {
+#if defined(__clang__)  // no variable __builtin_shuffle
+    V moved;
+    for (std::size_t k = 0; k < sizeof(V) / sizeof(v[0]); ++k) moved[k] = v[order[k]];
+    return moved;
+#else
+    return __builtin_shuffle(v, order);
+#endif
+}
+
 // Stores the lanes of v whose bits (4) are set to out[0 … popcount(bits)), in lane order, with one
 // permutation (AVX2's vpermd) and no branch on which are set; writes out[0 … 4).
 [[gnu::always_inline]] inline void store_set_lanes(const Double4& v, unsigned bits, double* __restrict out) {
     using UnalignedDouble4 = double __attribute__((vector_size(32), aligned(8)));
     Int8 order;
     std::memcpy(&order, kSetLanesFirst[bits].data(), sizeof order);
-    const Int8 lanes = std::bit_cast<Int8>(v);
-#if defined(__clang__)  // no variable __builtin_shuffle
-    Int8 moved;
-    for (int k = 0; k < 8; ++k) moved[k] = lanes[order[k]];
-#else
-    const Int8 moved = __builtin_shuffle(lanes, order);
-#endif
+    const Int8 moved = permuted(std::bit_cast<Int8>(v), order);
     *reinterpret_cast<UnalignedDouble4*>(out) = std::bit_cast<UnalignedDouble4>(moved);
 }
 
@@ -597,12 +603,7 @@ constexpr std::array<std::array<unsigned char, 8>, 256> kSetLanesFirst8 = [] {
     std::memcpy(&packed, kSetLanesFirst8[bits].data(), sizeof packed);
     const Int64x8 order = __builtin_convertvector(packed, Int64x8);
     const auto store = [&](const Double8& v, double* __restrict out) __attribute__((always_inline)) {
-#if defined(__clang__)  // no variable __builtin_shuffle
-        Double8 moved;
-        for (int k = 0; k < 8; ++k) moved[k] = v[order[k]];
-#else
-        const Double8 moved = __builtin_shuffle(v, order);
-#endif
+        const Double8 moved = permuted(v, order);
         std::memcpy(out, &moved, sizeof moved);
     };
     const Double8 py = Double8{} + r.py;
