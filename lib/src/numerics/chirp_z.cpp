@@ -1,6 +1,7 @@
 #include "chirp_z.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -48,13 +49,30 @@ int smooth_fft_size(int n) {
     }
 }
 
+int commensurate_fold(double sample_step, double frequency_step) {
+    const double bins = 1.0 / std::fabs(sample_step * frequency_step);
+    if (!(bins >= 1.0 && bins < 1e9)) return 0;
+    const double nearest = std::round(bins);
+    return std::fabs(bins - nearest) <= 1e-12 * bins ? static_cast<int>(nearest) : 0;
+}
+
 ChirpZ::ChirpZ(int input_count, int output_count, double sample_step, double first_frequency,
                double frequency_step)
-    : input_count_(input_count), output_count_(output_count),
+    : input_count_(input_count), output_count_(output_count), frequency_step_(frequency_step),
       fft_size_(smooth_fft_size(input_count + output_count - 1)) {
     constexpr double two_pi = 2.0 * pi;
-    const double theta = two_pi * sample_step * frequency_step;
     const double shift = two_pi * sample_step * first_frequency;
+    const int fold = commensurate_fold(sample_step, frequency_step);
+    if (fold > 0 && fold < fft_size_ && smooth_fft_size(fold) == fold) {
+        fold_size_ = fold;
+        input_chirp_.resize(input_count_);
+        for (int n = 0; n < input_count_; ++n) input_chirp_[n] = std::polar(1.0, -shift * double(n));
+        // e^{−i2π r m h Δv} = e^{∓i2π r m/F}: FFTW's forward transform for Δv > 0, backward for Δv < 0.
+        const FftPlanPair& plans = plans_for_size(fold_size_);
+        forward_ = frequency_step > 0.0 ? plans.forward.get() : plans.backward.get();
+        return;
+    }
+    const double theta = two_pi * sample_step * frequency_step;
     input_chirp_.resize(input_count_);
     for (int n = 0; n < input_count_; ++n) {
         const double nn = double(n);
@@ -81,11 +99,21 @@ ChirpZ::ChirpZ(int input_count, int output_count, double sample_step, double fir
 }
 
 FftwBuffer<fftw_complex> ChirpZ::make_workspace() const {
-    return make_fftw_buffer<fftw_complex>(static_cast<std::size_t>(fft_size_));
+    return make_fftw_buffer<fftw_complex>(static_cast<std::size_t>(fold_size_ ? fold_size_ : fft_size_));
 }
 
 void ChirpZ::transform(const Complex* input, Complex* output, fftw_complex* workspace) const {
     Complex* work = as_complex(workspace);
+    if (fold_size_) {
+        std::fill(work, work + fold_size_, Complex(0.0, 0.0));
+        for (int first = 0; first < input_count_; first += fold_size_) {
+            const int count = std::min(fold_size_, input_count_ - first);
+            for (int r = 0; r < count; ++r) work[r] += multiply(input[first + r], input_chirp_[first + r]);
+        }
+        fftw_execute_dft(forward_, workspace, workspace);
+        for (int m = 0, r = 0; m < output_count_; ++m, r = r + 1 == fold_size_ ? 0 : r + 1) output[m] = work[r];
+        return;
+    }
     for (int n = 0; n < input_count_; ++n) work[n] = multiply(input[n], input_chirp_[n]);
     std::fill(work + input_count_, work + fft_size_, Complex(0.0, 0.0));
     fftw_execute_dft(forward_, workspace, workspace);

@@ -7,6 +7,13 @@
 //
 // With nm = (n² + m² − (m − n)²)/2 the sum becomes a convolution with a chirp:
 //   X_m = e^{−iθm²/2} Σ_n [x_n e^{−i2π h v0 n} e^{−iθn²/2}] e^{iθ(m−n)²/2},   θ = 2π h Δv.
+//
+// When the grids are commensurate, |h Δv| = 1/F for an integer F (a caller that may choose its
+// step makes them so: fft_lobe.cpp), e^{−i2π n m h Δv} repeats every F inputs, and the sum is a
+// plain DFT of length F of the modulated input folded onto F bins:
+//   X_m = Σ_{r<F} [Σ_{n ≡ r (mod F)} x_n e^{−i2π h v0 n}] e^{∓i2π r m/F},   the sign that of Δv,
+// exact as well, read at bin m mod F. The transform takes that path when F is a size FFTW does
+// fast and smaller than the convolution's P: one FFT of F points instead of two of P ≥ L + M − 1.
 #include <complex>
 #include <vector>
 
@@ -30,6 +37,11 @@ public:
 
     int input_count() const { return input_count_; }
     int output_count() const { return output_count_; }
+    double frequency_step() const { return frequency_step_; }
+    // F when the transform folds (the grids are commensurate), else 0.
+    int fold_size() const { return fold_size_; }
+    // When it folds: the factor e^{−i2π h v0 n} of input n.
+    Complex modulation(int n) const { return input_chirp_[n]; }
 
     // Scratch memory for transform(); each thread needs its own.
     FftwBuffer<fftw_complex> make_workspace() const;
@@ -41,8 +53,10 @@ public:
 private:
     int input_count_ = 0;
     int output_count_ = 0;
+    double frequency_step_ = 0.0;
     int fft_size_ = 0;
-    std::vector<Complex> input_chirp_;          // e^{−i(2π h v0 n + θn²/2)}
+    int fold_size_ = 0;
+    std::vector<Complex> input_chirp_;          // e^{−i(2π h v0 n + θn²/2)}; folding: e^{−i2π h v0 n}
     std::vector<Complex> output_chirp_;         // e^{−iθm²/2}
     FftwBuffer<fftw_complex> filter_spectrum_;  // FFT of e^{iθq²/2} (q = −(L−1) … M−1), divided by P
     fftw_plan forward_ = nullptr;
@@ -51,5 +65,8 @@ private:
 
 // The smallest n' ≥ n whose prime factors are all 2, 3, 5 or 7 (sizes FFTW transforms fastest).
 int smooth_fft_size(int n);
+
+// F if |sample_step · frequency_step| = 1/F for an integer F ≥ 1 (to 1e-12 relative), else 0.
+int commensurate_fold(double sample_step, double frequency_step);
 
 }  // namespace glintscope

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "numerics/chirp_z.hpp"
@@ -141,16 +142,16 @@ NodeUse node_use(const WavelengthSetup& setup, const SubpixelGrid& grid) {
 int component_count(DiffractionModel model) { return model == DiffractionModel::kirchhoff ? 3 : 1; }
 
 // First pass: every sample row (and component) transformed along x to all K·N sub-columns, stored
-// column-major (result[(c·cols + m)·ny + k]) for the second pass. Rows go in blocks of 8 so that
+// column-major (result[(c·cols + m)·ny + k]) for the second pass; ny rows (the grid's, or its
+// rows folded along y). Rows go in blocks of 8 so that
 // the transposed writes fill whole cache lines.
 // `parts` holds the Kirchhoff components H_x R*, H_y R* when a source gave them; otherwise they
 // are formed from R* and the grid's slopes.
 void transform_rows(const WavelengthSetup& setup, const std::vector<Complex>& reflection,
-                    const std::vector<std::vector<Complex>>& parts, const ChirpZ& along_x, int cols,
+                    const std::vector<std::vector<Complex>>& parts, const ChirpZ& along_x, int cols, int ny,
                     std::vector<Complex>& result) {
     const FootprintSamples& samples = setup.samples;
     const int nx = samples.x.count;
-    const int ny = samples.y.count;
     const int components = component_count(setup.query->model);
     constexpr std::size_t block = 8;
     parallel_for(ny, block, [&](std::size_t begin, std::size_t end) {
@@ -181,7 +182,7 @@ void transform_columns(const WavelengthSetup& setup, const SubpixelGrid& grid, c
                        const std::vector<int>& columns, const std::vector<Complex>& rows_result,
                        const ChirpZ& along_y, std::vector<Complex>& field) {
     const LobeQuery& query = *setup.query;
-    const int ny = setup.samples.y.count;
+    const int ny = along_y.input_count();
     const int components = component_count(query.model);
     parallel_for(columns.size(), 8, [&](std::size_t begin, std::size_t end) {
         auto workspace = along_y.make_workspace();
@@ -207,40 +208,144 @@ void transform_columns(const WavelengthSetup& setup, const SubpixelGrid& grid, c
     });
 }
 
-// R̃*(ψ̄/λ) at every sub-pixel of one sub-row, by chirp-z transforms along x (each sample row to
-// all K·N sub-columns) and then along y (each needed sub-column to all N rows), summed over the
-// ξ3 nodes with each sub-pixel's interpolation weights. Each value is correct up to the unit
-// factor e^{−i2π s_0·v} of the grid origin s_0, common to every node and Kirchhoff component at
-// that v and so invisible in |R̃*|². The cell area is not applied.
-std::vector<Complex> transformed_field(const WavelengthSetup& setup, const SubpixelGrid& grid, const ChirpZ& along_x,
-                                       const ChirpZ& along_y) {
+// Adds grid row x times `modulation` to folded row out[0], and with kSlopes the same times H_x
+// and H_y to out[1], out[2]: one pass over the row. With kStep, x (R*) is first stepped to the
+// next ξ3 node and written back to `stepped` (x itself).
+template <bool kStep, bool kSlopes>
+void fold_row(const Complex* x, Complex* stepped, const Complex* __restrict step, const double* __restrict slope_x,
+              const double* __restrict slope_y, Complex modulation, int nx, Complex* const* out) {
+    Complex* __restrict out0 = out[0];
+    Complex* __restrict out1 = out[1];
+    Complex* __restrict out2 = out[2];
+    for (int j = 0; j < nx; ++j) {
+        Complex value = x[j];
+        if constexpr (kStep) {
+            value = multiply(value, step[j]);
+            stepped[j] = value;
+        }
+        const Complex modulated = multiply(value, modulation);
+        out0[j] += modulated;
+        if constexpr (kSlopes) {
+            out1[j] += modulated * slope_x[j];
+            out2[j] += modulated * slope_y[j];
+        }
+    }
+}
+
+// The grid's rows folded along y for a transform that folds (chirp_z.hpp): row r of component c is
+// Σ_{k ≡ r (mod F)} e^{−i2π k h v0} x_c[k], x_c the rows of R*, H_x R*, H_y R* (or of `parts`),
+// so that the rows pass transforms F rows instead of the grid's and the columns need no fold.
+// Each folded row adds its grid rows in order, whatever the thread. With `step`, R* is first
+// stepped to the next ξ3 node in place (R* ← R*·step), in the same pass.
+void fold_rows(const WavelengthSetup& setup, std::vector<Complex>& reflection,
+               const std::vector<std::vector<Complex>>& parts, const ChirpZ& along_y, const Complex* step,
+               std::vector<std::vector<Complex>>& folded) {
+    const FootprintSamples& samples = setup.samples;
+    const int nx = samples.x.count;
+    const int ny = samples.y.count;
+    const int fold = along_y.fold_size();
+    const int components = component_count(setup.query->model);
+    const bool from_parts = parts.size() > 1;  // a source's Kirchhoff components
+    folded.resize(static_cast<std::size_t>(components));
+    for (std::vector<Complex>& rows : folded) rows.resize(static_cast<std::size_t>(fold) * nx);
+    parallel_for(fold, 4, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t r = begin; r < end; ++r) {
+            Complex* out[3];
+            for (int c = 0; c < 3; ++c) out[c] = c < components ? &folded[c][r * nx] : nullptr;
+            for (int c = 0; c < components; ++c) std::fill_n(out[c], nx, Complex(0.0, 0.0));
+            for (std::size_t k = r; k < static_cast<std::size_t>(ny); k += fold) {
+                const Complex modulation = along_y.modulation(static_cast<int>(k));
+                Complex* row = &reflection[k * nx];
+                const Complex* row_step = step ? &step[k * nx] : nullptr;
+                if (components == 1 || from_parts) {
+                    if (row_step)
+                        fold_row<true, false>(row, row, row_step, nullptr, nullptr, modulation, nx, out);
+                    else
+                        fold_row<false, false>(row, nullptr, nullptr, nullptr, nullptr, modulation, nx, out);
+                    for (int c = 1; c < components; ++c) {
+                        Complex* part_out[3] = {out[c], nullptr, nullptr};
+                        fold_row<false, false>(&parts[c][k * nx], nullptr, nullptr, nullptr, nullptr, modulation, nx,
+                                               part_out);
+                    }
+                } else if (row_step) {
+                    fold_row<true, true>(row, row, row_step, &samples.slope_x[k * nx], &samples.slope_y[k * nx],
+                                         modulation, nx, out);
+                } else {
+                    fold_row<false, true>(row, nullptr, nullptr, &samples.slope_x[k * nx], &samples.slope_y[k * nx],
+                                          modulation, nx, out);
+                }
+            }
+        }
+    });
+}
+
+// One sub-row b of the K×K supersampling: its sub-pixels, the ξ3 nodes they need, its transform
+// along y, and R̃* at its sub-pixels as the nodes add up.
+struct SubRow {
+    SubpixelGrid grid;
+    NodeUse use;
+    ChirpZ along_y;
+    std::vector<Complex> field;
+};
+
+// R̃*(ψ̄/λ) at every sub-pixel of every sub-row, by chirp-z transforms along x (each sample row to
+// all K·N sub-columns, once per ξ3 node for all sub-rows: their sub-columns are the same) and then
+// along y (each sub-row's needed sub-columns to its N rows), summed over the ξ3 nodes with each
+// sub-pixel's interpolation weights. Each value is correct up to the unit factor e^{−i2π s_0·v}
+// of the grid origin s_0, common to every node and Kirchhoff component at that v and so invisible
+// in |R̃*|². The cell area is not applied.
+void transform_fields(const WavelengthSetup& setup, const ChirpZ& along_x, std::vector<SubRow>& sub_rows) {
     const Xi3Slices& slices = setup.slices;
-    const NodeUse use = node_use(setup, grid);
-    std::vector<Complex> field(grid.omega_o.size());
-    std::vector<Complex> rows_result(static_cast<std::size_t>(component_count(setup.query->model)) * grid.cols *
-                                     setup.samples.y.count);
+    const int cols = sub_rows.front().grid.cols;
+    // One sub-row whose transform along y folds: its rows are folded first (fold_rows), and the
+    // columns take the plain DFT of the F folded rows.
+    const ChirpZ& along_y = sub_rows.front().along_y;
+    const bool fold_first = sub_rows.size() == 1 && along_y.fold_size() > 0 &&
+                            along_y.fold_size() < setup.samples.y.count;
+    std::optional<ChirpZ> folded_along_y;
+    if (fold_first)
+        folded_along_y.emplace(along_y.fold_size(), along_y.output_count(), setup.samples.y.step_um, 0.0,
+                               along_y.frequency_step());
+    const int rows = fold_first ? along_y.fold_size() : setup.samples.y.count;
+    std::vector<Complex> rows_result(static_cast<std::size_t>(component_count(setup.query->model)) * cols * rows);
     std::vector<std::vector<Complex>> parts;  // a source's components
+    std::vector<std::vector<Complex>> folded;
     std::vector<Complex> reflection;
     if (!setup.source) reflection = phase_factors(setup, slices.node(slices.first), true);
+    std::vector<std::vector<int>> columns(sub_rows.size());
     for (int node = slices.first; node <= slices.last; ++node) {
-        if (!setup.source && node > slices.first)
+        bool needed = false;
+        for (std::size_t b = 0; b < sub_rows.size(); ++b) {
+            const NodeUse& use = sub_rows[b].use;
+            columns[b].clear();
+            for (int m = 0; m < cols; ++m)
+                if (use.lowest_node[m] <= node && node <= use.highest_node[m]) columns[b].push_back(m);
+            needed = needed || !columns[b].empty();
+        }
+        // R* steps to this node here, or in fold_rows's pass over the rows when that runs.
+        const bool step_now = !setup.source && node > slices.first;
+        if (step_now && !(fold_first && needed))
             parallel_for(reflection.size(), 4096, [&](std::size_t begin, std::size_t end) {
                 for (std::size_t s = begin; s < end; ++s)
                     reflection[s] = multiply(reflection[s], setup.node_step[s]);
             });
-        std::vector<int> columns;
-        for (int m = 0; m < grid.cols; ++m)
-            if (use.lowest_node[m] <= node && node <= use.highest_node[m]) columns.push_back(m);
-        if (columns.empty()) continue;
+        if (!needed) continue;
         if (setup.source) {
             setup.source->fill(setup.samples, slices.node(node), setup.lambda_um, parts);
             reflection.swap(parts[0]);
         }
-        transform_rows(setup, reflection, parts, along_x, grid.cols, rows_result);
+        if (fold_first) {
+            fold_rows(setup, reflection, parts, along_y, step_now ? setup.node_step.data() : nullptr, folded);
+            transform_rows(setup, folded[0], folded, along_x, cols, rows, rows_result);
+        } else {
+            transform_rows(setup, reflection, parts, along_x, cols, rows, rows_result);
+        }
         if (setup.source) reflection.swap(parts[0]);
-        transform_columns(setup, grid, use, node, columns, rows_result, along_y, field);
+        for (std::size_t b = 0; b < sub_rows.size(); ++b)
+            if (!columns[b].empty())
+                transform_columns(setup, sub_rows[b].grid, sub_rows[b].use, node, columns[b], rows_result,
+                                  fold_first ? *folded_along_y : sub_rows[b].along_y, sub_rows[b].field);
     }
-    return field;
 }
 
 // Adds to pixel_sums, for each pixel, the sum over the sub-row's sub-pixels of
@@ -308,22 +413,53 @@ FootprintSamples sample_on_axes(const LobeQuery& query, const FootprintExtent& e
     return sample_footprint(*query.surface, extent, x, y, query.model == DiffractionModel::kirchhoff);
 }
 
-// The footprint sampled at the requested step, or at the alias-free step of each axis; if the
-// final grid finds steeper slopes than the estimate, the step is recomputed with them.
+// The image's period along x and y, 1/Δv of its sub-pixel grid in ψ̄/λ (fill_layer), when the
+// steps are to divide it; else zero.
+struct ImagePeriods {
+    double x_um = 0.0;
+    double y_um = 0.0;
+};
+
+ImagePeriods image_periods(const LobeQuery& query, const ScatteringGeometry& geometry, double lambda_um,
+                           GridSteps steps) {
+    if (steps != GridSteps::commensurate || query.footprint.shape == FootprintShape::box) return {};
+    const double row = query.resolution * lambda_um / (2.0 * geometry.scale);
+    return {row * std::max(query.supersample, 1), row};
+}
+
+// The largest step h ≤ alias_free with period/h a fast FFT size, so that the chirp-z transforms
+// fold (chirp_z.hpp); alias_free itself when there is no period.
+double commensurate_step(double alias_free, double period_um) {
+    if (!(period_um > 0.0)) return alias_free;
+    const double bins = std::ceil(period_um / alias_free);
+    if (!(bins < kMaxSamplesPerAxis)) return alias_free;
+    return period_um / smooth_fft_size(static_cast<int>(bins));
+}
+
+// The footprint sampled at the requested step, or at the alias-free step of each axis (made
+// commensurate with the image's periods when they are given); if the final grid finds steeper
+// slopes than the estimate, the step is recomputed with them.
 FootprintSamples sample_for_wavelength(const LobeQuery& query, const ScatteringGeometry& geometry,
                                        const FootprintExtent& extent, const FftSettings& settings, double lambda_um,
                                        double xi3_max, SlopeBound slopes, const ReflectionSource* source,
-                                       double& oversampling_used) {
+                                       ImagePeriods periods, double& oversampling_used) {
     if (settings.step_um > 0.0) return sample_on_axes(query, extent, settings.step_um, settings.step_um);
     const double guard = settings.guard_widths * extent.spectral_width + (source ? source->bandwidth : 0.0);
     double q = source && source->smooth ? 1.0 : settings.oversampling;
     const double psi_max_x = std::fabs(geometry.offset.x) + geometry.scale;
     const double psi_max_y = std::fabs(geometry.offset.y) + geometry.scale;
+    const auto step_x = [&](double oversampling) {
+        return commensurate_step(alias_free_step(psi_max_x, xi3_max, slopes.x, lambda_um, guard, oversampling),
+                                 periods.x_um);
+    };
+    const auto step_y = [&](double oversampling) {
+        return commensurate_step(alias_free_step(psi_max_y, xi3_max, slopes.y, lambda_um, guard, oversampling),
+                                 periods.y_um);
+    };
     // Over the memory budget, the oversampling beyond the alias-free bound goes first (it only
     // pushes the C¹ interpolant's spectral tails further out); the bound itself is kept.
     const auto fits = [&](double oversampling) {
-        return fits_budget(query, extent, alias_free_step(psi_max_x, xi3_max, slopes.x, lambda_um, guard, oversampling),
-                           alias_free_step(psi_max_y, xi3_max, slopes.y, lambda_um, guard, oversampling));
+        return fits_budget(query, extent, step_x(oversampling), step_y(oversampling));
     };
     if (q > 1.0 && !fits(q)) {
         double lowered = 1.0;
@@ -332,14 +468,22 @@ FootprintSamples sample_for_wavelength(const LobeQuery& query, const ScatteringG
     }
     oversampling_used = q;
     for (int attempt = 0;; ++attempt) {
-        FootprintSamples samples =
-            sample_on_axes(query, extent, alias_free_step(psi_max_x, xi3_max, slopes.x, lambda_um, guard, q),
-                           alias_free_step(psi_max_y, xi3_max, slopes.y, lambda_um, guard, q));
+        FootprintSamples samples = sample_on_axes(query, extent, step_x(q), step_y(q));
         const bool covered = samples.max_slope_x <= slopes.x && samples.max_slope_y <= slopes.y;
         if (covered || attempt == 2) return samples;
         slopes = {std::max(slopes.x, kSlopePadding * samples.max_slope_x),
                   std::max(slopes.y, kSlopePadding * samples.max_slope_y)};
     }
+}
+
+// How many sub-rows share one pass along x: all of them, unless their sub-pixel arrays (about
+// 80 bytes per sub-pixel: directions, ψ, node use, R̃*) would take more than a quarter of the
+// memory budget.
+int sub_rows_per_batch(const LobeQuery& query) {
+    constexpr double kBytesPerSubpixel = 80.0;
+    const double sub_row_bytes = kBytesPerSubpixel * double(query.resolution) * query.resolution * query.supersample;
+    const double fitting = std::floor(0.25 * query.memory_budget_gb * 1e9 / sub_row_bytes);
+    return static_cast<int>(std::clamp(fitting, 1.0, double(query.supersample)));
 }
 
 // Fills image layer `layer` from the wavelength's samples: for each sub-row of the K×K
@@ -360,14 +504,23 @@ void fill_layer(const WavelengthSetup& setup, const FootprintExtent& extent, con
                          (geometry.offset.x + geometry.scale * first_x) / lambda,
                          geometry.scale * 2.0 / (resolution * supersample * lambda));
     std::vector<double> pixel_sums(static_cast<std::size_t>(resolution) * resolution);
-    for (int sub_row = 0; sub_row < supersample; ++sub_row) {
-        const double first_y = disk_pixel_point(0, 0, resolution, 0.0, subpixel_offset(sub_row, supersample)).y;
-        const ChirpZ along_y(samples.y.count, resolution, samples.y.step_um,
-                             (geometry.offset.y + geometry.scale * first_y) / lambda,
-                             -geometry.scale * 2.0 / (resolution * lambda));
-        const SubpixelGrid grid = subpixel_grid(resolution, supersample, sub_row, geometry);
-        add_subpixel_values(setup, grid, transformed_field(setup, grid, along_x, along_y), extent.area_um2, factor,
-                            pixel_sums);
+    const int batch = sub_rows_per_batch(query);
+    for (int first = 0; first < supersample; first += batch) {
+        std::vector<SubRow> sub_rows;
+        for (int sub_row = first; sub_row < std::min(first + batch, supersample); ++sub_row) {
+            const double first_y = disk_pixel_point(0, 0, resolution, 0.0, subpixel_offset(sub_row, supersample)).y;
+            SubpixelGrid grid = subpixel_grid(resolution, supersample, sub_row, geometry);
+            NodeUse use = node_use(setup, grid);
+            const std::size_t size = grid.omega_o.size();
+            sub_rows.push_back({std::move(grid), std::move(use),
+                                ChirpZ(samples.y.count, resolution, samples.y.step_um,
+                                       (geometry.offset.y + geometry.scale * first_y) / lambda,
+                                       -geometry.scale * 2.0 / (resolution * lambda)),
+                                std::vector<Complex>(size)});
+        }
+        transform_fields(setup, along_x, sub_rows);
+        for (const SubRow& sub_row : sub_rows)
+            add_subpixel_values(setup, sub_row.grid, sub_row.field, extent.area_um2, factor, pixel_sums);
     }
     store_subpixel_means(image, layer, pixel_sums, supersample);
 }
@@ -424,7 +577,7 @@ double energy_inside(const Footprint& footprint, const Heightfield& field) {
 }  // namespace
 
 void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometry, const ScatteringFactor& factor,
-                       LobeImage& image, const ReflectionSource* source) {
+                       LobeImage& image, const ReflectionSource* source, GridSteps steps) {
     const FftSettings settings = fft_settings(query);
     const FootprintExtent extent = footprint_extent(query.footprint, settings.window_sigmas);
     // ξ3 over the image: 2, or ψ_z = o_z + k·cos θ_o with cos θ_o ∈ (0, 1].
@@ -436,6 +589,8 @@ void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometr
     GridRecord record;
     std::vector<std::string> oversampling;
     bool lowered = false;
+    // A smooth source (Gabor's kernels) asks for no oversampling at all (sample_for_wavelength).
+    const double wanted = source && source->smooth ? 1.0 : settings.oversampling;
     for (std::size_t layer = 0; layer < image.layers(); ++layer) {
         WavelengthSetup setup;
         setup.query = &query;
@@ -443,10 +598,10 @@ void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometr
         setup.lambda_um = image.wavelengths_um[layer];
         setup.source = source;
         double q = settings.oversampling;
-        setup.samples =
-            sample_for_wavelength(query, geometry, extent, settings, setup.lambda_um, xi3_max, slopes, source, q);
+        setup.samples = sample_for_wavelength(query, geometry, extent, settings, setup.lambda_um, xi3_max, slopes,
+                                              source, image_periods(query, geometry, setup.lambda_um, steps), q);
         oversampling.push_back(shortest_text(q));
-        lowered = lowered || q < settings.oversampling;
+        lowered = lowered || q < wanted;
         if (settings.truncate_at_edges) truncate_at_edges(setup.samples, *query.field);
         setup.slices = choose_xi3_slices(query.model, setup.samples, setup.lambda_um, xi3_min, xi3_max,
                                          settings.phase_error, kMaxXi3Slices);
@@ -465,7 +620,7 @@ void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometr
     image.metadata["fft.guard_widths"] = shortest_text(settings.guard_widths);
     image.metadata["fft.oversampling"] = GridRecord::join(oversampling);
     if (lowered)  // the pipeline says it
-        image.metadata["note.fft"] = "oversampling lowered from " + shortest_text(settings.oversampling) + " to " +
+        image.metadata["note.fft"] = "oversampling lowered from " + shortest_text(wanted) + " to " +
                                      image.metadata["fft.oversampling"] + " to fit the footprint grid in the " +
                                      shortest_text(query.memory_budget_gb) + " GB memory budget (--memory)";
     if (varying_xi3) image.metadata["fft.phase_error"] = shortest_text(settings.phase_error);
@@ -481,7 +636,7 @@ FootprintSamples layer_samples(const LobeQuery& query, const ScatteringGeometry&
     const SlopeBound slopes = settings.step_um > 0.0 ? SlopeBound{} : footprint_slopes(*query.surface, extent);
     double q = settings.oversampling;
     FootprintSamples samples =
-        sample_for_wavelength(query, geometry, extent, settings, lambda_um, xi3_max, slopes, nullptr, q);
+        sample_for_wavelength(query, geometry, extent, settings, lambda_um, xi3_max, slopes, nullptr, {}, q);
     if (settings.truncate_at_edges) truncate_at_edges(samples, *query.field);
     return samples;
 }

@@ -56,12 +56,23 @@ struct ReflectionSource {
     bool smooth = false;
 };
 
+// How the automatic step is chosen: alias_free, the largest alias-free step (above); or
+// commensurate, the largest step h at or below it that divides the image's period P = 1/Δv
+// (Δv its sub-pixel spacing in ψ̄/λ) into a fast FFT size F = P/h, so that every transform folds
+// onto F bins instead of a chirp-z convolution of ≥ L + M − 1 (chirp_z.hpp; Gaussian footprints;
+// a box keeps its cell-centred grid). Both are exact transforms of their grid; the grids differ
+// by under a step, so the images by the grid's own discretisation (~1e-5 relative L2 at the
+// default oversampling, docs/performance.md). The fft method itself keeps alias_free, so that its
+// point evaluation (layer_samples) reads the image's grid whatever the image's resolution.
+enum class GridSteps { alias_free, commensurate };
+
 // Fills every layer λ of `image` (resolution and wavelengths set) with the K×K sub-pixel mean of
 // factor · |R̃*(ψ̄/λ)|²/(A_c λ²), R̃* of the query's model, footprint and options as above (or of
 // `source`'s field), and records the grid in the metadata ("fft.*"). Throws Error on a bad option
 // or a grid too large.
 void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometry, const ScatteringFactor& factor,
-                       LobeImage& image, const ReflectionSource* source = nullptr);
+                       LobeImage& image, const ReflectionSource* source = nullptr,
+                       GridSteps steps = GridSteps::alias_free);
 
 // The footprint grid that scattering_layers samples for one wavelength (its step alias-free for
 // the geometry, or the option's; edges truncated as the options say), without `source`.

@@ -395,6 +395,11 @@ TEST(GaborLobe, GridEvaluationIsTheClosedFormSum) {
         // Measured 2.3e-4 (2e-6 with a 5σ cut).
         EXPECT_LT(testing::grid_against_closed_form(query), 5e-4) << to_string(model);
     }
+    // The kernels' field needs no oversampling (q = 1 by design), so nothing was lowered to fit the
+    // memory budget, and the image must not say so (it did on every grid image until 2026-11-27).
+    const LobeImage image = compute_lobe("gabor", query);
+    EXPECT_EQ(image.metadata.at("fft.oversampling"), "1");
+    EXPECT_EQ(image.metadata.count("note.fft"), 0u) << image.metadata.at("note.fft");
 }
 
 TEST(GaborSurface, FootprintWrapsAroundThePeriodicField) {
