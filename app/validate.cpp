@@ -14,6 +14,7 @@
 #include "glintscope/output/figure.hpp"
 #include "glintscope/output/plot.hpp"
 #include "glintscope/lobe/query_keys.hpp"
+#include "glintscope/methods/gabor/gabor_surface.hpp"
 #include "glintscope/core/text_format.hpp"
 #include "glintscope/validate/albedo.hpp"
 #include "glintscope/validate/validate.hpp"
@@ -259,12 +260,14 @@ void add_validate_command(CLI::App& app) {
     command->add_option("--models", settings->models,
                         "Diffraction models, comma-separated (default rohs; kirchhoff when one method is geometric)")
         ->type_name("LIST");
+    const GaborSettings gabor_defaults;  // the help states the method's own defaults
     command->add_option("--kernels-per-texel", settings->kernels_per_texel,
-                        "Gabor densities K, comma-separated (default the method's, 2)")
+                        "Gabor densities K, comma-separated (default the method's, " +
+                            std::to_string(gabor_defaults.kernels_per_texel) + ")")
         ->type_name("LIST");
     command->add_option("--order", settings->orders,
                         "Gabor expansion orders, comma-separated: 1 (Yan 2018), 2 (chirped kernels) (default the "
-                        "method's, 1)")
+                        "method's, " + std::to_string(gabor_defaults.order) + ")")
         ->type_name("LIST");
     command->add_option("--test-method", settings->test_method, "Method under test")->capture_default_str();
     command->add_option("--reference-method", settings->reference_method, "Reference method")->capture_default_str();
