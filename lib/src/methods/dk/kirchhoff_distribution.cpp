@@ -35,8 +35,7 @@ LobeImage distribution_image(const LobeQuery& query, double lambda_q, int resolu
     LobeImage image = make_lobe_image(resolution, {lambda_q}, Quantity::ndf);
     // Dong 2015 eq. 6 with ψ = 2h: D_K = ψ_z² |R̃*|²/(λ_q² A_c).
     scattering_layers(kirchhoff, {Vec3{0.0, 0.0, 0.0}, 2.0},
-                      [](const Vec3& psi, const Vec3&, double) { return psi.z * psi.z; }, image, nullptr,
-                      GridSteps::commensurate);
+                      [](const Vec3& psi, const Vec3&, double) { return psi.z * psi.z; }, image);
     return image;
 }
 

@@ -10,7 +10,12 @@
 //   step         grid step, a length (both axes). Default, per wavelength and axis: the largest
 //                step whose spectral repeats of R̃* (at v + k/step) stay clear of every ψ̄/λ of
 //                the image, 1/step ≥ (max|ψ̄| + q·max ξ3·max|H'|)/λ + guard, with max|H'| over
-//                the footprint and q the oversampling.
+//                the footprint and q the oversampling, rounded down (a Gaussian footprint) so
+//                that it divides the image's period P = 1/Δv (Δv its sub-pixel spacing in ψ̄/λ)
+//                into a fast FFT size F = P/step: then the chirp-z transforms fold the grid onto
+//                F bins and take one FFT of F points (chirp_z.hpp). The step depends on the
+//                image's resolution and supersampling through P, by under 10%; the lobe by the
+//                grid's own discretisation (~1e-5 relative L2).
 //   window       Gaussian footprint: sampled half-width in σ_c (default 4). Ignored for a box.
 //   guard        spectral margin in footprint spectral widths — 1/(2πσ_c) for a Gaussian
 //                (default 6: aliased amplitude ≲ e^{−18}), 1/side for a box (default 32).
@@ -56,26 +61,17 @@ struct ReflectionSource {
     bool smooth = false;
 };
 
-// How the automatic step is chosen: alias_free, the largest alias-free step (above); or
-// commensurate, the largest step h at or below it that divides the image's period P = 1/Δv
-// (Δv its sub-pixel spacing in ψ̄/λ) into a fast FFT size F = P/h, so that every transform folds
-// onto F bins instead of a chirp-z convolution of ≥ L + M − 1 (chirp_z.hpp; Gaussian footprints;
-// a box keeps its cell-centred grid). Both are exact transforms of their grid; the grids differ
-// by under a step, so the images by the grid's own discretisation (~1e-5 relative L2 at the
-// default oversampling, docs/performance.md). The fft method itself keeps alias_free, so that its
-// point evaluation (layer_samples) reads the image's grid whatever the image's resolution.
-enum class GridSteps { alias_free, commensurate };
-
 // Fills every layer λ of `image` (resolution and wavelengths set) with the K×K sub-pixel mean of
 // factor · |R̃*(ψ̄/λ)|²/(A_c λ²), R̃* of the query's model, footprint and options as above (or of
 // `source`'s field), and records the grid in the metadata ("fft.*"). Throws Error on a bad option
 // or a grid too large.
 void scattering_layers(const LobeQuery& query, const ScatteringGeometry& geometry, const ScatteringFactor& factor,
-                       LobeImage& image, const ReflectionSource* source = nullptr,
-                       GridSteps steps = GridSteps::alias_free);
+                       LobeImage& image, const ReflectionSource* source = nullptr);
 
 // The footprint grid that scattering_layers samples for one wavelength (its step alias-free for
-// the geometry, or the option's; edges truncated as the options say), without `source`.
+// the geometry and dividing the period of the query's image, or the option's; edges truncated as
+// the options say), without `source`: the point evaluation of a query at supersample 1 reads the
+// grid of that query's image.
 FootprintSamples layer_samples(const LobeQuery& query, const ScatteringGeometry& geometry, double lambda_um);
 
 // Yan 2018 eq. 6 at single directions (fft_point.cpp): for each ω_i and wavelength the grid of

@@ -452,7 +452,7 @@ LobeImage gabor_lobe_on_grid(const LobeQuery& query, const GaborSettings& settin
         return xi1_geometric(query.model, query.omega_i, omega_o) * fresnel.at(lambda)(0.5 * length(psi));
     };
     LobeImage image = make_lobe_image(query.resolution, query.wavelengths_um);
-    scattering_layers(query, {query.omega_i, 1.0}, xi1, image, &source, GridSteps::commensurate);
+    scattering_layers(query, {query.omega_i, 1.0}, xi1, image, &source);
     record_settings(settings, grid, kernels, query, image);
     image.metadata["gabor.evaluation"] = "kernels summed on the fft grid (within 4 kernel sigmas), chirp-z transforms";
     return image;
