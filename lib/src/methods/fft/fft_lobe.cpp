@@ -156,17 +156,21 @@ void transform_rows(const WavelengthSetup& setup, const std::vector<Complex>& re
     constexpr std::size_t block = 8;
     parallel_for(ny, block, [&](std::size_t begin, std::size_t end) {
         auto workspace = along_x.make_workspace();
-        std::vector<Complex> input(nx), output(block * components * cols);
+        // Scratch kept by the thread: every element is written before it is read.
+        Complex* formed = thread_scratch<Complex>(0, nx);
+        Complex* output = thread_scratch<Complex>(1, block * components * cols);
         for (std::size_t k = begin; k < end; ++k)
             for (int c = 0; c < components; ++c) {
                 const Complex* row = &reflection[k * nx];
+                const Complex* input = c == 0 ? row : nullptr;
                 if (c > 0 && parts.size() > static_cast<std::size_t>(c)) {
-                    std::copy_n(&parts[c][k * nx], nx, input.begin());
-                } else {
-                    const std::vector<double>* slope = c == 1 ? &samples.slope_x : &samples.slope_y;
-                    for (int j = 0; j < nx; ++j) input[j] = c == 0 ? row[j] : row[j] * (*slope)[k * nx + j];
+                    input = &parts[c][k * nx];
+                } else if (c > 0) {
+                    const double* slope = &(c == 1 ? samples.slope_x : samples.slope_y)[k * nx];
+                    for (int j = 0; j < nx; ++j) formed[j] = row[j] * slope[j];
+                    input = formed;
                 }
-                along_x.transform(input.data(), &output[((k - begin) * components + c) * cols], workspace.get());
+                along_x.transform(input, &output[((k - begin) * components + c) * cols], workspace.get());
             }
         for (int c = 0; c < components; ++c)
             for (int m = 0; m < cols; ++m)
