@@ -105,8 +105,10 @@ FftwBuffer<fftw_complex> ChirpZ::make_workspace() const {
 void ChirpZ::transform(const Complex* input, Complex* output, fftw_complex* workspace) const {
     Complex* work = as_complex(workspace);
     if (fold_size_) {
-        std::fill(work, work + fold_size_, Complex(0.0, 0.0));
-        for (int first = 0; first < input_count_; first += fold_size_) {
+        const int head = std::min(fold_size_, input_count_);  // the first block sets the bins
+        for (int r = 0; r < head; ++r) work[r] = multiply(input[r], input_chirp_[r]);
+        std::fill(work + head, work + fold_size_, Complex(0.0, 0.0));
+        for (int first = fold_size_; first < input_count_; first += fold_size_) {
             const int count = std::min(fold_size_, input_count_ - first);
             for (int r = 0; r < count; ++r) work[r] += multiply(input[first + r], input_chirp_[first + r]);
         }
