@@ -143,8 +143,8 @@ int component_count(DiffractionModel model) { return model == DiffractionModel::
 
 // First pass: every sample row (and component) transformed along x to all K·N sub-columns, stored
 // column-major (result[(c·cols + m)·ny + k]) for the second pass; ny rows (the grid's, or its
-// rows folded along y). Rows go in blocks of 8 so that
-// the transposed writes fill whole cache lines.
+// rows folded along y). Rows go in blocks of 8 so that the transposed writes fill whole cache
+// lines.
 // `parts` holds the Kirchhoff components H_x R*, H_y R* when a source gave them; otherwise they
 // are formed from R* and the grid's slopes.
 void transform_rows(const WavelengthSetup& setup, const std::vector<Complex>& reflection,
@@ -162,10 +162,10 @@ void transform_rows(const WavelengthSetup& setup, const std::vector<Complex>& re
         for (std::size_t k = begin; k < end; ++k)
             for (int c = 0; c < components; ++c) {
                 const Complex* row = &reflection[k * nx];
-                const Complex* input = c == 0 ? row : nullptr;
+                const Complex* input = row;
                 if (c > 0 && parts.size() > static_cast<std::size_t>(c)) {
                     input = &parts[c][k * nx];
-                } else if (c > 0) {
+                } else if (c > 0) {  // H_x R* or H_y R* from the grid's slopes
                     const double* slope = &(c == 1 ? samples.slope_x : samples.slope_y)[k * nx];
                     for (int j = 0; j < nx; ++j) formed[j] = row[j] * slope[j];
                     input = formed;
