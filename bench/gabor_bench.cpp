@@ -90,21 +90,28 @@ const GaborSurface& point_query_surface(int density, int order) {
     return surfaces[density - 1][order - 1];
 }
 
-void BM_GaborPointQuery(benchmark::State& state) {
-    const GaborSurface& surface =
-        point_query_surface(static_cast<int>(state.range(1)), static_cast<int>(state.range(2)));
-    const std::vector<double> wavelengths =
-        state.range(0) == 1 ? std::vector<double>{0.5} : visible_bins(static_cast<int>(state.range(0)));
+// 4096 queries at ω_i of the isotropic query, ω_o uniform on the projected disk, footprint
+// centres uniform over [origin, origin + spread)² µm.
+std::vector<GaborPointQuery> random_point_queries(double origin, double spread) {
     std::mt19937 random(7);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
     std::vector<GaborPointQuery> queries(4096);
     for (GaborPointQuery& query : queries) {
-        query.footprint.centre_um = {1024.0 * uniform(random), 1024.0 * uniform(random)};
+        query.footprint.centre_um = {origin + spread * uniform(random), origin + spread * uniform(random)};
         query.omega_i = isotropic_query().omega_i;
         const double r = std::sqrt(uniform(random));
         const double phi = 2.0 * std::numbers::pi * uniform(random);
         query.omega_o = direction_from_disk(r * std::cos(phi), r * std::sin(phi));
     }
+    return queries;
+}
+
+void BM_GaborPointQuery(benchmark::State& state) {
+    const GaborSurface& surface =
+        point_query_surface(static_cast<int>(state.range(1)), static_cast<int>(state.range(2)));
+    const std::vector<double> wavelengths =
+        state.range(0) == 1 ? std::vector<double>{0.5} : visible_bins(static_cast<int>(state.range(0)));
+    const std::vector<GaborPointQuery> queries = random_point_queries(0.0, 1024.0);
     std::size_t next = 0;
     for (auto _ : state) {
         benchmark::DoNotOptimize(surface.f_r(queries[next], wavelengths));
@@ -116,6 +123,20 @@ void BM_GaborPointQuery(benchmark::State& state) {
 BENCHMARK(BM_GaborPointQuery)
     ->ArgsProduct({{1, 8, 16}, {1, 2}, {1, 2}})
     ->Unit(benchmark::kMicrosecond);
+
+// GaborPointQuery/1/1/2 with every footprint centre in a square of side state.range(0) µm, its
+// samples and hierarchy nodes in cache: how much of the one-off query is waiting on memory.
+void BM_GaborPointQueryWarm(benchmark::State& state) {
+    const GaborSurface& surface = point_query_surface(1, 2);
+    const std::vector<double> wavelengths{0.5};
+    const std::vector<GaborPointQuery> queries = random_point_queries(512.0, double(state.range(0)));
+    std::size_t next = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(surface.f_r(queries[next], wavelengths));
+        next = (next + 1) % queries.size();
+    }
+}
+BENCHMARK(BM_GaborPointQueryWarm)->Arg(0)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 // A renderer's shading points inside the lobe (Yan 2018 Fig. 12's Patch scene at λ 0.4 µm):
 // footprint centres 0.7 µm apart along rows, ω_o within ±0.3 per axis on the projected disk of

@@ -38,7 +38,7 @@ LobePlan plan_lobe(const std::string& method, const LobeQuery& query);
 struct LobeRun {
     LobeImage image;
     std::vector<std::string> notes;     // the plan's choices, one line each, to be said once
-    std::vector<std::string> warnings;  // physics warnings about the query and the image
+    std::vector<std::string> warnings;  // physics warnings about the query, the image and the method's own ("METHOD.warning")
 };
 
 // Called after each footprint of an averaged request with (done, total); for a single footprint

@@ -2,6 +2,7 @@
 // exact FFT lobes over many footprints of generated surfaces with the same statistics.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -427,6 +428,10 @@ TEST(StamCd, OrderPositionsMatchFftOfGeneratedTracks) {
     EXPECT_EQ(stam_image.metadata.at("stam.surface"), "cd");
     // ν_y b = 0.5 bumps overlap each bump: outside Stam's first-order treatment, and said so.
     EXPECT_NE(stam_image.metadata.at("stam.warning").find("overlap"), std::string::npos);
+    // The run says it too, as the CLI prints and batch reports it.
+    const std::vector<std::string> warnings = run_lobe("stam", query).warnings;
+    EXPECT_NE(std::find(warnings.begin(), warnings.end(), "stam: " + stam_image.metadata.at("stam.warning")),
+              warnings.end());
     for (int m = -4; m <= 4; ++m) {
         const double x = -m * 0.5 / 2.5;
         const double col = (x + 1.0) * n / 2.0 - 0.5, row = (n - 1) / 2.0;
