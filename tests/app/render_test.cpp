@@ -73,7 +73,7 @@ TEST(RenderCommand, BadScenesFailInOneLineAndWriteNothing) {
     for (const std::vector<std::string>& bad :
          {std::vector<std::string>{"--camera", "0,-6cm,-1cm:0,0,0"}, {"--light", "0,6cm,-7cm:2"}, {"--fov", "0"},
           {"--size", "1000000x1000000"}, {"--spp", "0"}, {"--light", "0,nan,7cm:2"}, {"--method", "stam"},
-          {"--method", "geometric", "--sigma-c", "5um"}}) {
+          {"--method", "geometric", "--sigma-c", "5um"}, {"--sigma-c", "0.3um"}}) {
         const auto result = run_cli(with({"render", "builtin:isotropic", "-o", exr}, bad));
         EXPECT_EQ(result.exit_code, 1) << bad[0] << " " << bad[1] << ": " << result.output;
         EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;

@@ -27,6 +27,30 @@ using gabor::KernelGrid;
 constexpr double kPanelTableBytes = 256.0 * (1 << 20);  // transform tables of one panel of the image
 constexpr int kMaxXi3Nodes = 512;
 
+// The narrower σ of a Gaussian footprint (σ_c, or its minor σ when elliptical).
+double narrower_sigma(const Footprint& footprint) {
+    return footprint.sigma_minor_um > 0.0 ? std::min(footprint.sigma_um, footprint.sigma_minor_um) : footprint.sigma_um;
+}
+
+// Yan 2018 eq. 16 weights each kernel by the window at its centre, so the kernels sum to the
+// Gaussian window blurred by G(σ_k), whose energy is f = Π_axes √(σ²/(σ² + σ_k²)) of the window's
+// (σ_c²/(σ_c² + σ_k²) when round): a flat mirror's albedo is exactly f of the FFT's, a rough
+// surface's within 0.15% of it for σ_c ≥ 1.4 σ_k (docs/gabor.md "Flat mirror"). 1 for a box.
+double kernel_blur_factor(const Footprint& footprint, const KernelGrid& grid) {
+    if (footprint.shape != FootprintShape::gaussian) return 1.0;
+    const auto axis = [&](double sigma) { return sigma / std::sqrt(sigma * sigma + grid.sigma_um * grid.sigma_um); };
+    return axis(footprint.sigma_um) * axis(footprint.sigma_minor_um > 0.0 ? footprint.sigma_minor_um : footprint.sigma_um);
+}
+
+// What brings the blur factor to 0.99: kernels_per_texel K ≤ 16 with σ_k ≤ σ/√99 on the narrower
+// axis, else the fft method.
+std::string remedy(const Footprint& footprint, const KernelGrid& grid, int kernels_per_texel) {
+    const double texel = grid.spacing_um * kernels_per_texel;
+    const int needed = static_cast<int>(std::ceil(texel * std::sqrt(99.0) / (2.0 * narrower_sigma(footprint))));
+    return needed <= 16 ? "kernels_per_texel " + std::to_string(needed) + " brings f to 0.99"
+                        : "use the fft method (kernels_per_texel would need " + std::to_string(needed) + ")";
+}
+
 // ---- The sample grid -------------------------------------------------------------------------
 
 // M = N·S samples per axis: sample m lies in pixel m / S at sub-pixel offset (m mod S + ½)/S − ½,
@@ -413,44 +437,6 @@ void chirped_layer(const LayerSetup& layer, const gabor::FootprintKernels& kerne
     });
 }
 
-// The narrower σ of a Gaussian footprint (σ_c, or its minor σ when elliptical).
-double narrower_sigma(const Footprint& footprint) {
-    return footprint.sigma_minor_um > 0.0 ? std::min(footprint.sigma_um, footprint.sigma_minor_um) : footprint.sigma_um;
-}
-
-// Yan 2018 eq. 16 weights each kernel by the window at its centre, so the kernels sum to the
-// Gaussian window blurred by G(σ_k), whose energy is f = Π_axes √(σ²/(σ² + σ_k²)) of the window's
-// (σ_c²/(σ_c² + σ_k²) when round): a flat mirror's albedo is exactly f of the FFT's, a rough
-// surface's within 0.15% of it for σ_c ≥ 1.4 σ_k (docs/gabor.md "Flat mirror"). 1 for a box.
-double kernel_blur_factor(const Footprint& footprint, const KernelGrid& grid) {
-    if (footprint.shape != FootprintShape::gaussian) return 1.0;
-    const auto axis = [&](double sigma) { return sigma / std::sqrt(sigma * sigma + grid.sigma_um * grid.sigma_um); };
-    return axis(footprint.sigma_um) * axis(footprint.sigma_minor_um > 0.0 ? footprint.sigma_minor_um : footprint.sigma_um);
-}
-
-// What brings the blur factor to 0.99: kernels_per_texel K ≤ 16 with σ_k ≤ σ/√99 on the narrower
-// axis, else the fft method.
-std::string remedy(const Footprint& footprint, const KernelGrid& grid, int kernels_per_texel) {
-    const double texel = grid.spacing_um * kernels_per_texel;
-    const int needed = static_cast<int>(std::ceil(texel * std::sqrt(99.0) / (2.0 * narrower_sigma(footprint))));
-    return needed <= 16 ? "kernels_per_texel " + std::to_string(needed) + " brings f to 0.99"
-                        : "use the fft method (kernels_per_texel would need " + std::to_string(needed) + ")";
-}
-
-// A Gaussian footprint narrower than the kernels (σ < σ_k: blur factor below ½ on that axis, its
-// window sampled by fewer kernels than it has σ) or a box holding no kernel gives a lobe that is
-// not the footprint's: refused before any transform.
-void check_footprint_resolved(const Footprint& footprint, const KernelGrid& grid, const gabor::FootprintKernels& kernels,
-                              int kernels_per_texel) {
-    if (footprint.shape == FootprintShape::gaussian && narrower_sigma(footprint) < grid.sigma_um)
-        throw Error("sigma_c " + shortest_text(narrower_sigma(footprint)) + " um is below the kernels' width sigma_k " +
-                    shortest_text(grid.sigma_um) + " um (kernels_per_texel " + std::to_string(kernels_per_texel) +
-                    "): the kernels cannot resolve the footprint; " + remedy(footprint, grid, kernels_per_texel));
-    if (kernels.arrays.size() == 0)
-        throw Error("the footprint holds no kernel centre (kernel spacing " + shortest_text(grid.spacing_um) +
-                    " um); use a larger footprint or more kernels_per_texel");
-}
-
 void record_settings(const GaborSettings& settings, const KernelGrid& grid, const gabor::FootprintKernels& kernels,
                      const LobeQuery& query, LobeImage& image) {
     const double blur = kernel_blur_factor(query.footprint, grid);
@@ -506,13 +492,24 @@ LobeImage gabor_lobe_on_grid(const LobeQuery& query, const GaborSettings& settin
 
 }  // namespace
 
+void check_footprint_width(const Footprint& footprint, const GaborSettings& settings, double texel_um) {
+    const KernelGrid grid = gabor::kernel_grid(texel_um, settings);
+    if (footprint.shape == FootprintShape::gaussian && narrower_sigma(footprint) < grid.sigma_um)
+        throw Error("sigma_c " + shortest_text(narrower_sigma(footprint)) + " um is below the kernels' width sigma_k " +
+                    shortest_text(grid.sigma_um) + " um (kernels_per_texel " + std::to_string(settings.kernels_per_texel) +
+                    "): the kernels cannot resolve the footprint; " + remedy(footprint, grid, settings.kernels_per_texel));
+}
+
 LobeImage gabor_lobe(const LobeQuery& query) {
     const GaborSettings settings = gabor_settings(query);
     const BicubicInterpolant& surface = *query.surface;
     const KernelGrid grid = gabor::kernel_grid(surface.texel_um(), settings);
     const gabor::CoherenceWindow window(query.footprint, settings.footprint_sigmas);
+    check_footprint_width(query.footprint, settings, surface.texel_um());
     const gabor::FootprintKernels kernels = gabor::gather_kernels(surface, grid, window, query.footprint.centre_um);
-    check_footprint_resolved(query.footprint, grid, kernels, settings.kernels_per_texel);
+    if (kernels.arrays.size() == 0)
+        throw Error("the footprint holds no kernel centre (kernel spacing " + shortest_text(grid.spacing_um) +
+                    " um); use a larger footprint or more kernels_per_texel");
     const double phase_error = method_option_number(query, "phase_error", 0.01);
     if (!(phase_error > 0.0 && phase_error <= 1.0))
         throw Error("option phase_error must be in (0, 1], got " + shortest_text(phase_error));

@@ -88,6 +88,7 @@ EvaluatedSample sample_with_f_r(const gabor::SlopeIndex& index, const gabor::Ker
 
 PointAnswersAt gabor_point_field(const LobeQuery& query) {
     const GaborSettings settings = gabor_settings(query);
+    check_footprint_width(query.footprint, settings, query.surface->texel_um());
     auto surface = std::make_shared<const GaborSurface>(query.surface, settings);
     const gabor::KernelGrid grid = gabor::kernel_grid(query.surface->texel_um(), settings);
     return [surface, grid, query](const Footprint& footprint) {
@@ -121,6 +122,7 @@ PointAnswersAt gabor_point_field(const LobeQuery& query) {
 
 PointAnswers gabor_point_answers(const LobeQuery& query) {
     const GaborSettings settings = gabor_settings(query);
+    check_footprint_width(query.footprint, settings, query.surface->texel_um());
     const gabor::KernelGrid grid = gabor::kernel_grid(query.surface->texel_um(), settings);
     const gabor::CoherenceWindow window(query.footprint, settings.footprint_sigmas);
     const DiffractionModel model = query.model;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "methods/gabor/gabor_kernels.hpp"
+#include "glintscope/bsdf/bsdf.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
 #include "methods/fft/fft_lobe.hpp"
@@ -183,8 +184,8 @@ TEST(GaborLobe, AlbedoIsTheKernelBlurShareOfTheFftsAtSmallFootprints) {
 }
 
 // A window narrower than the kernels (σ_c < σ_k) or a box holding no kernel centre is refused
-// before any transform: its lobe would not be the footprint's (σ_c = 0.3 µm at K = 1: albedo 3% of
-// the FFT's).
+// before any transform, by images, BSDFs and render fields: its lobe would not be the footprint's
+// (σ_c = 0.3 µm at K = 1: albedo 3% of the FFT's).
 TEST(GaborLobe, RefusesFootprintsTheKernelsCannotResolve) {
     LobeQuery query = isotropic_query(32);
     query.footprint.sigma_um = 0.3;
@@ -196,8 +197,12 @@ TEST(GaborLobe, RefusesFootprintsTheKernelsCannotResolve) {
                   std::string::npos)
             << error.what();
     }
+    // A BSDF and a render's field of that footprint are refused alike, before any work.
+    EXPECT_THROW(make_bsdf("gabor", query), Error);
+    EXPECT_THROW(make_bsdf_field("gabor", query), Error);
     query.method_options = {{"kernels_per_texel", "2"}};  // σ_k = 0.25 µm
     EXPECT_NO_THROW(compute_lobe("gabor", query));
+    EXPECT_NO_THROW(make_bsdf("gabor", query));
     query.method_options.clear();
     query.footprint.shape = FootprintShape::box;
     query.footprint.size_um = 0.5;
