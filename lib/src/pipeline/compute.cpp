@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <string>
-#include <string_view>
 
 #include "glintscope/core/error.hpp"
 #include "glintscope/core/parallel.hpp"
@@ -285,14 +284,11 @@ LobeRun run_lobe(const std::string& method, const LobeQuery& query, const RunPro
     run.notes = plan.notes;
     // What a method chose on its own and wants said (e.g. the FFT's grid within the memory budget),
     // and what it found doubtful in its own answer ("METHOD.warning", e.g. gabor's kernel blur).
-    std::vector<std::string> method_warnings;
-    for (const auto& [key, value] : run.image.metadata) {
+    for (const auto& [key, value] : run.image.metadata)
         if (key.starts_with("note.")) run.notes.push_back(value);
-        if (const std::string_view suffix = ".warning"; key.ends_with(suffix))
-            method_warnings.push_back(std::string(key, 0, key.size() - suffix.size()).append(": ").append(value));
-    }
     run.warnings = query_warnings(method, plan.query);
-    for (std::string& warning : method_warnings) run.warnings.push_back(std::move(warning));
+    if (const auto own = run.image.metadata.find(method + ".warning"); own != run.image.metadata.end())
+        run.warnings.push_back(method + ": " + own->second);
     for (std::string& warning : image_warnings(method, plan.query, run.image)) run.warnings.push_back(std::move(warning));
     return run;
 }
