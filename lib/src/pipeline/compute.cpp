@@ -310,9 +310,8 @@ std::vector<std::string> query_warnings(const std::string& method, const LobeQue
     // (its window's transform is wider than 1/λ), where the scalar models no longer describe it.
     if (info.wave_optics) {
         const Footprint& f = query.footprint;
-        const double width = f.shape == FootprintShape::box
-                                 ? std::min(f.size_um, f.size_y_um > 0.0 ? f.size_y_um : f.size_um)
-                                 : (f.sigma_minor_um > 0.0 ? std::min(f.sigma_um, f.sigma_minor_um) : f.sigma_um);
+        const double width =
+            f.shape == FootprintShape::box ? std::min(box_width_um(f), box_height_um(f)) : minor_sigma_um(f);
         const double longest = *std::max_element(query.wavelengths_um.begin(), query.wavelengths_um.end());
         if (f.shape != FootprintShape::whole && width < longest)
             warnings.push_back(std::string(f.shape == FootprintShape::box ? "the box side " : "sigma_c ") +

@@ -45,6 +45,11 @@ inline bool is_elliptical(const Footprint& footprint) {
            footprint.sigma_minor_um != footprint.sigma_um;
 }
 
+// A Gaussian footprint's σ across its axis: σ_minor of an ellipse (validate: ≤ σ_c), else σ_c.
+inline double minor_sigma_um(const Footprint& footprint) {
+    return footprint.sigma_minor_um > 0.0 ? footprint.sigma_minor_um : footprint.sigma_um;
+}
+
 // Whether the footprint is a box whose sides do not run along x and y.
 inline bool is_rotated_box(const Footprint& footprint) {
     return footprint.shape == FootprintShape::box && footprint.axis_radians != 0.0;

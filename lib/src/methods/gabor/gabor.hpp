@@ -77,10 +77,14 @@ GaborCellKernel gabor_cell_kernel(Point2 centre_um, double cell_um, const Surfac
 // for unknown options or bad values.
 GaborSettings gabor_settings(const LobeQuery& query);
 
+namespace gabor {
+struct KernelGrid;  // gabor_kernels.hpp
+}
+
 // Refuses (Error) a Gaussian footprint narrower than the kernels, σ_c (or its minor σ) < σ_k:
 // they cannot resolve its window, whose lobe would not be the footprint's (docs/gabor.md "Flat
 // mirror"). Images, BSDFs and render fields alike, before any work.
-void check_footprint_width(const Footprint& footprint, const GaborSettings& settings, double texel_um);
+void check_footprint_width(const Footprint& footprint, const gabor::KernelGrid& grid);
 
 // ---- Whole lobe images --------------------------------------------------------------------
 

@@ -27,11 +27,6 @@ using gabor::KernelGrid;
 constexpr double kPanelTableBytes = 256.0 * (1 << 20);  // transform tables of one panel of the image
 constexpr int kMaxXi3Nodes = 512;
 
-// The narrower σ of a Gaussian footprint (σ_c, or its minor σ when elliptical).
-double narrower_sigma(const Footprint& footprint) {
-    return footprint.sigma_minor_um > 0.0 ? std::min(footprint.sigma_um, footprint.sigma_minor_um) : footprint.sigma_um;
-}
-
 // Yan 2018 eq. 16 weights each kernel by the window at its centre, so the kernels sum to the
 // Gaussian window blurred by G(σ_k), whose energy is f = Π_axes √(σ²/(σ² + σ_k²)) of the window's
 // (σ_c²/(σ_c² + σ_k²) when round): a flat mirror's albedo is exactly f of the FFT's, a rough
@@ -39,14 +34,14 @@ double narrower_sigma(const Footprint& footprint) {
 double kernel_blur_factor(const Footprint& footprint, const KernelGrid& grid) {
     if (footprint.shape != FootprintShape::gaussian) return 1.0;
     const auto axis = [&](double sigma) { return sigma / std::sqrt(sigma * sigma + grid.sigma_um * grid.sigma_um); };
-    return axis(footprint.sigma_um) * axis(footprint.sigma_minor_um > 0.0 ? footprint.sigma_minor_um : footprint.sigma_um);
+    return axis(footprint.sigma_um) * axis(minor_sigma_um(footprint));
 }
 
 // What brings the blur factor to 0.99: kernels_per_texel K ≤ 16 with σ_k ≤ σ/√99 on the narrower
 // axis, else the fft method.
-std::string remedy(const Footprint& footprint, const KernelGrid& grid, int kernels_per_texel) {
-    const double texel = grid.spacing_um * kernels_per_texel;
-    const int needed = static_cast<int>(std::ceil(texel * std::sqrt(99.0) / (2.0 * narrower_sigma(footprint))));
+std::string remedy(const Footprint& footprint, const KernelGrid& grid) {
+    const double texel = grid.spacing_um * grid.kernels_per_texel;
+    const int needed = static_cast<int>(std::ceil(texel * std::sqrt(99.0) / (2.0 * minor_sigma_um(footprint))));
     return needed <= 16 ? "kernels_per_texel " + std::to_string(needed) + " brings f to 0.99"
                         : "use the fft method (kernels_per_texel would need " + std::to_string(needed) + ")";
 }
@@ -443,10 +438,10 @@ void record_settings(const GaborSettings& settings, const KernelGrid& grid, cons
     if (blur < 0.98)
         image.metadata["gabor.warning"] =
             "the kernels' own blur (sigma_k " + shortest_text(grid.sigma_um) + " um against sigma_c " +
-            shortest_text(narrower_sigma(query.footprint)) + " um) keeps f = " + shortest_text(std::round(blur * 1e4) / 1e4) +
+            shortest_text(minor_sigma_um(query.footprint)) + " um) keeps f = " + shortest_text(std::round(blur * 1e4) / 1e4) +
             " of the window's energy: the albedo is " + shortest_text(std::round((1.0 - blur) * 1e3) / 10) +
             "% low, as Yan 2018 eq. 16 weights each kernel by the window at its centre; " +
-            remedy(query.footprint, grid, settings.kernels_per_texel);
+            remedy(query.footprint, grid);
     image.metadata["gabor.kernels_per_texel"] = std::to_string(settings.kernels_per_texel);
     image.metadata["gabor.order"] = std::to_string(settings.order);
     image.metadata["gabor.kernel_spacing_um"] = shortest_text(grid.spacing_um);
@@ -492,12 +487,11 @@ LobeImage gabor_lobe_on_grid(const LobeQuery& query, const GaborSettings& settin
 
 }  // namespace
 
-void check_footprint_width(const Footprint& footprint, const GaborSettings& settings, double texel_um) {
-    const KernelGrid grid = gabor::kernel_grid(texel_um, settings);
-    if (footprint.shape == FootprintShape::gaussian && narrower_sigma(footprint) < grid.sigma_um)
-        throw Error("sigma_c " + shortest_text(narrower_sigma(footprint)) + " um is below the kernels' width sigma_k " +
-                    shortest_text(grid.sigma_um) + " um (kernels_per_texel " + std::to_string(settings.kernels_per_texel) +
-                    "): the kernels cannot resolve the footprint; " + remedy(footprint, grid, settings.kernels_per_texel));
+void check_footprint_width(const Footprint& footprint, const KernelGrid& grid) {
+    if (footprint.shape == FootprintShape::gaussian && minor_sigma_um(footprint) < grid.sigma_um)
+        throw Error("sigma_c " + shortest_text(minor_sigma_um(footprint)) + " um is below the kernels' width sigma_k " +
+                    shortest_text(grid.sigma_um) + " um (kernels_per_texel " + std::to_string(grid.kernels_per_texel) +
+                    "): the kernels cannot resolve the footprint; " + remedy(footprint, grid));
 }
 
 LobeImage gabor_lobe(const LobeQuery& query) {
@@ -505,7 +499,7 @@ LobeImage gabor_lobe(const LobeQuery& query) {
     const BicubicInterpolant& surface = *query.surface;
     const KernelGrid grid = gabor::kernel_grid(surface.texel_um(), settings);
     const gabor::CoherenceWindow window(query.footprint, settings.footprint_sigmas);
-    check_footprint_width(query.footprint, settings, surface.texel_um());
+    check_footprint_width(query.footprint, grid);
     const gabor::FootprintKernels kernels = gabor::gather_kernels(surface, grid, window, query.footprint.centre_um);
     if (kernels.arrays.size() == 0)
         throw Error("the footprint holds no kernel centre (kernel spacing " + shortest_text(grid.spacing_um) +

@@ -88,9 +88,9 @@ EvaluatedSample sample_with_f_r(const gabor::SlopeIndex& index, const gabor::Ker
 
 PointAnswersAt gabor_point_field(const LobeQuery& query) {
     const GaborSettings settings = gabor_settings(query);
-    check_footprint_width(query.footprint, settings, query.surface->texel_um());
-    auto surface = std::make_shared<const GaborSurface>(query.surface, settings);
     const gabor::KernelGrid grid = gabor::kernel_grid(query.surface->texel_um(), settings);
+    check_footprint_width(query.footprint, grid);
+    auto surface = std::make_shared<const GaborSurface>(query.surface, settings);
     return [surface, grid, query](const Footprint& footprint) {
         PointAnswers answers;
         const DiffractionModel model = query.model;
@@ -122,8 +122,8 @@ PointAnswersAt gabor_point_field(const LobeQuery& query) {
 
 PointAnswers gabor_point_answers(const LobeQuery& query) {
     const GaborSettings settings = gabor_settings(query);
-    check_footprint_width(query.footprint, settings, query.surface->texel_um());
     const gabor::KernelGrid grid = gabor::kernel_grid(query.surface->texel_um(), settings);
+    check_footprint_width(query.footprint, grid);
     const gabor::CoherenceWindow window(query.footprint, settings.footprint_sigmas);
     const DiffractionModel model = query.model;
     // Where ξ3 does not depend on the directions, each wavelength's ξ3/λ is known now: transform_point's.
