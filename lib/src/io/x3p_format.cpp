@@ -26,7 +26,9 @@
 // Writing: float64 heights in metres (every float32 height in µm survives h/1e6·1e6 exactly,
 // the round trip is bit-exact), increments printed so that the texel in µm parses back to the
 // same double, NaN for missing points plus a valid.bin when any are missing, MD5 checksums of
-// main.xml (md5checksum.hex) and of the binary files, and the provenance in Record2's Comment.
+// main.xml (md5checksum.hex) and of the binary files, and the provenance in Record2's Comment;
+// Record2 keeps the instrument of a scan read from X3P (add_record2). main.xml is valid under
+// openGPS's ISO5436_2.xsd (tests/lib/io/x3p_schema_test.cpp restates both of its revisions).
 // The main.xml checksum is not verified on reading: it is often stale in real files (the
 // CSAFE example's is), and the zip CRCs already catch corrupted data.
 #include <algorithm>
@@ -42,6 +44,7 @@
 #include <limits>
 #include <list>
 #include <optional>
+#include <regex>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -54,6 +57,7 @@
 #include "formats.hpp"
 #include "core/md5.hpp"
 #include "glintscope/core/text_format.hpp"
+#include "glintscope/core/version.hpp"
 
 namespace glintscope {
 namespace {
@@ -152,6 +156,16 @@ std::string unescape(std::string_view text) {
     }
     return plain;
 }
+
+// Where a foreign file's Record2 elements are kept in the provenance (read_provenance) and
+// written back from (add_record2).
+constexpr std::pair<const char*, const char*> kInstrumentKeys[] = {{"Manufacturer", "x3p:instrument.manufacturer"},
+                                                                   {"Model", "x3p:instrument.model"},
+                                                                   {"Serial", "x3p:instrument.serial"},
+                                                                   {"Version", "x3p:instrument.version"}};
+constexpr const char* kCalibrationDateKey = "x3p:calibration_date";
+constexpr const char* kProbingTypeKey = "x3p:probing_system.type";
+constexpr const char* kProbingIdentificationKey = "x3p:probing_system.identification";
 
 std::string provenance_comment(const Provenance& provenance) {
     std::string comment = std::string(kProvenanceMarker) + " (key<TAB>value per line)";
@@ -449,16 +463,19 @@ X3pLayout parse_layout(const X3pDocument& doc, const std::string& path) {
     return layout;
 }
 
-// Foreign files keep Record2's description; our own files restore their provenance from it.
+// Foreign files keep Record2's description of the measurement, each element under its own key
+// (the writer puts them back: a converted scan still names what measured it) and the
+// instrument's name in one line for `info`; our own files restore their provenance from it.
 Provenance read_provenance(const X3pDocument& doc) {
     const pugi::xml_node record2 = child(doc.root(), "Record2");
     if (!record2) return {};
     const std::string_view comment = child(record2, "Comment").child_value();
     if (auto ours = parse_provenance_comment(comment)) return *ours;
     Provenance provenance;
+    // "N/A", as tools write for what they do not know, is absent too.
     auto keep = [&](const std::string& key, std::string_view value) {
         value = trim(value);
-        if (!value.empty()) provenance[key] = std::string(value);
+        if (!value.empty() && value != "N/A") provenance[key] = std::string(value);
     };
     keep("x3p:creator", child(record2, "Creator").child_value());
     keep("x3p:date", child(record2, "Date").child_value());
@@ -470,6 +487,11 @@ Provenance read_provenance(const X3pDocument& doc) {
         instrument_name += (instrument_name.empty() ? "" : " ") + std::string(value);
     }
     keep("x3p:instrument", instrument_name);
+    for (const auto& [element, key] : kInstrumentKeys) keep(key, child(instrument, element).child_value());
+    keep(kCalibrationDateKey, child(record2, "CalibrationDate").child_value());
+    const pugi::xml_node probing = child(record2, "ProbingSystem");
+    keep(kProbingTypeKey, child(probing, "Type").child_value());
+    keep(kProbingIdentificationKey, child(probing, "Identification").child_value());
     keep("x3p:comment", comment);
     return provenance;
 }
@@ -713,6 +735,46 @@ std::string utc_now() {
     return buffer;
 }
 
+// Whether text is an xsd:dateTime, as Record2's dates must be: [-]YYYY-MM-DDThh:mm:ss[.s][zone].
+bool is_xsd_date_time(const std::string& text) {
+    static const std::regex date_time(R"(-?\d{4,}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}(\.\d+)?(Z|[+-]\d{2}:\d{2})?)");
+    return std::regex_match(text, date_time);
+}
+
+// Record2 describes the measurement. A scan read from another X3P keeps its creator,
+// instrument, calibration date and probing system (read_provenance), so that a converted scan
+// still names what measured it, and its calibration date only when it is an xsd:dateTime (the
+// schema's 2020 revision makes it optional; inventing one would misstate the calibration);
+// anything else was made by software: glintscope, probing system "Software" (ISO 25178-72's
+// value for simulated data, in the schema's 2020 revision). glintscope's own record goes to the
+// Comment, which our reader restores the provenance from.
+void add_record2(pugi::xml_node root, const Provenance& provenance) {
+    const auto kept = [&](const char* key) {
+        const auto found = provenance.find(key);
+        return found == provenance.end() ? std::string() : found->second;
+    };
+    const std::string type = kept(kProbingTypeKey);
+    const bool measured = type == "Contacting" || type == "NonContacting" || type == "Software";
+    const std::string now = utc_now();
+    pugi::xml_node record2 = root.append_child("Record2");
+    add_text(record2, "Date", now);
+    const std::string creator = measured ? kept("x3p:creator") : "glintscope";
+    if (!creator.empty()) add_text(record2, "Creator", creator);
+    pugi::xml_node instrument = record2.append_child("Instrument");
+    const std::string ours[] = {"N/A", "glintscope", "N/A", version()};
+    for (int k = 0; k < 4; ++k) {
+        const std::string value = measured ? kept(kInstrumentKeys[k].second) : ours[k];
+        add_text(instrument, kInstrumentKeys[k].first, value.empty() ? "N/A" : value);
+    }
+    const std::string calibration = measured ? kept(kCalibrationDateKey) : now;
+    if (is_xsd_date_time(calibration)) add_text(record2, "CalibrationDate", calibration);
+    pugi::xml_node probing = record2.append_child("ProbingSystem");
+    add_text(probing, "Type", measured ? type : "Software");
+    const std::string identification = measured ? kept(kProbingIdentificationKey) : "glintscope";
+    add_text(probing, "Identification", identification.empty() ? "N/A" : identification);
+    add_text(record2, "Comment", provenance_comment(provenance));
+}
+
 std::string main_xml(const Heightfield& field, const std::string& data_md5, const std::string& valid_md5) {
     pugi::xml_document doc;
     pugi::xml_node declaration = doc.append_child(pugi::node_declaration);
@@ -732,20 +794,7 @@ std::string main_xml(const Heightfield& field, const std::string& data_md5, cons
     add_axis(axes, "CY", "I", metres_text(field.dy_um()));
     add_axis(axes, "CZ", "A", "1");
 
-    const std::string now = utc_now();
-    pugi::xml_node record2 = root.append_child("Record2");
-    add_text(record2, "Date", now);
-    add_text(record2, "Creator", "glintscope");
-    pugi::xml_node instrument = record2.append_child("Instrument");
-    add_text(instrument, "Manufacturer", "N/A");
-    add_text(instrument, "Model", "glintscope");
-    add_text(instrument, "Serial", "N/A");
-    add_text(instrument, "Version", "0.1.0");
-    add_text(record2, "CalibrationDate", now);
-    pugi::xml_node probing = record2.append_child("ProbingSystem");
-    add_text(probing, "Type", "Software");
-    add_text(probing, "Identification", "glintscope");
-    add_text(record2, "Comment", provenance_comment(field.provenance));
+    add_record2(root, field.provenance);
 
     pugi::xml_node record3 = root.append_child("Record3");
     pugi::xml_node matrix = record3.append_child("MatrixDimension");
