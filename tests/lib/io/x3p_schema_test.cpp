@@ -7,10 +7,11 @@
 // simple types); on 2026-11-27 the written files were also validated against both files with
 // libxml2's `xmllint --schema` (docs/heightfields.md says how to repeat it). Elements must
 // appear in that order, required ones present, none unknown; values must be of their types. A
-// validating reader (openGPS's) checks exactly this.
+// validating reader (openGPS's) checks this, and then the few rules below (schema_problems).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <regex>
@@ -146,6 +147,16 @@ std::vector<std::string> schema_problems(const std::string& xml, Revision revisi
     const pugi::xml_node link = root.child("Record3").child("DataLink");
     if (link.child("ValidPointsLink").empty() != link.child("MD5ChecksumValidPoints").empty())
         problems.push_back("Record3/DataLink: ValidPointsLink and MD5ChecksumValidPoints must come together");
+    // What openGPS's reader checks after the schema (ValidateDocument): CZ absolute, a matrix's
+    // incremental CX and CY of non-zero Increment, a profile's matrix one row high.
+    const pugi::xml_node axes = root.child("Record1").child("Axes");
+    if (std::string(axes.child("CZ").child_value("AxisType")) != "A") problems.push_back("CZ is not absolute");
+    for (const char* axis : {"CX", "CY"})
+        if (std::string(axes.child(axis).child_value("AxisType")) == "I" && std::atof(axes.child(axis).child_value("Increment")) == 0.0)
+            problems.push_back(std::string(axis) + " is incremental with a zero Increment");
+    if (std::string(root.child("Record1").child_value("FeatureType")) == "PRF" &&
+        std::string(root.child("Record3").child("MatrixDimension").child_value("SizeY")) != "1")
+        problems.push_back("a profile's matrix is more than one row high");
     return problems;
 }
 
@@ -281,6 +292,10 @@ TEST(X3pSchema, TheCheckerRejectsOutOfOrderMissingAndMistypedElements) {
                   0u);
         EXPECT_GT(problems("<Record4><ChecksumFile>md5checksum.hex</ChecksumFile></Record4>", "", revision), 0u);
         EXPECT_GT(problems("<FeatureType>SUR</FeatureType>", "<FeatureType>AREA</FeatureType>", revision), 0u);
+        EXPECT_GT(problems("<CZ><AxisType>A</AxisType>", "<CZ><AxisType>I</AxisType>", revision), 0u);
+        EXPECT_GT(problems("<CX><AxisType>I</AxisType><DataType>D</DataType><Increment>1e-6</Increment>",
+                           "<CX><AxisType>I</AxisType><DataType>D</DataType><Increment>0</Increment>", revision),
+                  0u);
     }
     // Where the revisions differ.
     const std::string z_increment = "<DataType>D</DataType><Increment>1</Increment></CZ>";
