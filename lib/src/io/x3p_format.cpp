@@ -163,6 +163,7 @@ constexpr std::pair<const char*, const char*> kInstrumentKeys[] = {{"Manufacture
                                                                    {"Model", "x3p:instrument.model"},
                                                                    {"Serial", "x3p:instrument.serial"},
                                                                    {"Version", "x3p:instrument.version"}};
+constexpr const char* kCreatorKey = "x3p:creator";
 constexpr const char* kCalibrationDateKey = "x3p:calibration_date";
 constexpr const char* kProbingTypeKey = "x3p:probing_system.type";
 constexpr const char* kProbingIdentificationKey = "x3p:probing_system.identification";
@@ -477,7 +478,7 @@ Provenance read_provenance(const X3pDocument& doc) {
         value = trim(value);
         if (!value.empty() && value != "N/A") provenance[key] = std::string(value);
     };
-    keep("x3p:creator", child(record2, "Creator").child_value());
+    keep(kCreatorKey, child(record2, "Creator").child_value());
     keep("x3p:date", child(record2, "Date").child_value());
     const pugi::xml_node instrument = child(record2, "Instrument");
     std::string instrument_name;
@@ -753,24 +754,25 @@ void add_record2(pugi::xml_node root, const Provenance& provenance) {
         const auto found = provenance.find(key);
         return found == provenance.end() ? std::string() : found->second;
     };
+    // A type of the schema's enumeration says the provenance holds another file's Record2.
     const std::string type = kept(kProbingTypeKey);
-    const bool measured = type == "Contacting" || type == "NonContacting" || type == "Software";
+    const bool foreign = type == "Contacting" || type == "NonContacting" || type == "Software";
     const std::string now = utc_now();
     pugi::xml_node record2 = root.append_child("Record2");
     add_text(record2, "Date", now);
-    const std::string creator = measured ? kept("x3p:creator") : "glintscope";
+    const std::string creator = foreign ? kept(kCreatorKey) : "glintscope";
     if (!creator.empty()) add_text(record2, "Creator", creator);
     pugi::xml_node instrument = record2.append_child("Instrument");
     const std::string ours[] = {"N/A", "glintscope", "N/A", version()};
     for (int k = 0; k < 4; ++k) {
-        const std::string value = measured ? kept(kInstrumentKeys[k].second) : ours[k];
+        const std::string value = foreign ? kept(kInstrumentKeys[k].second) : ours[k];
         add_text(instrument, kInstrumentKeys[k].first, value.empty() ? "N/A" : value);
     }
-    const std::string calibration = measured ? kept(kCalibrationDateKey) : now;
+    const std::string calibration = foreign ? kept(kCalibrationDateKey) : now;
     if (is_xsd_date_time(calibration)) add_text(record2, "CalibrationDate", calibration);
     pugi::xml_node probing = record2.append_child("ProbingSystem");
-    add_text(probing, "Type", measured ? type : "Software");
-    const std::string identification = measured ? kept(kProbingIdentificationKey) : "glintscope";
+    add_text(probing, "Type", foreign ? type : "Software");
+    const std::string identification = foreign ? kept(kProbingIdentificationKey) : "glintscope";
     add_text(probing, "Identification", identification.empty() ? "N/A" : identification);
     add_text(record2, "Comment", provenance_comment(provenance));
 }
