@@ -148,7 +148,9 @@ void bind_bsdf(py::module_& module) {
         .def_property_readonly("evaluates_directly", &Bsdf::evaluates_directly,
                                "Whether eval is the method's own point query (else its lobe images' pixels).")
         .def_property_readonly("samples_directly", &Bsdf::samples_directly,
-                               "Whether sample and pdf are the method's own sampler (else a pixel of its images).");
+                               "Whether sample and pdf are the method's own sampler (else a pixel of its images).")
+        .def_property_readonly("warnings", &Bsdf::warnings,
+                               "Physics warnings that hold for every direction (also issued as RuntimeWarning by bsdf()).");
 
     static const std::string bsdf_doc =
         "bsdf(heightfield, method=\"fft\", **keys) -> Bsdf\n\nThe BSDF of a method for the query's footprint, "
@@ -158,8 +160,14 @@ void bind_bsdf(py::module_& module) {
         "bsdf",
         [](py::handle field, const std::string& method, py::kwargs keys) {
             const LobeQuery query = python_query(field, keys, Quantity::brdf);
-            py::gil_scoped_release release;
-            return make_bsdf(method, query);
+            std::optional<Bsdf> bsdf;
+            {
+                py::gil_scoped_release release;
+                bsdf.emplace(make_bsdf(method, query));
+            }
+            const py::object warn = py::module_::import("warnings").attr("warn");
+            for (const std::string& warning : bsdf->warnings()) warn(warning, py::handle(PyExc_RuntimeWarning), 2);
+            return std::move(*bsdf);
         },
         py::arg("heightfield"), py::arg("method") = "fft", bsdf_doc.c_str());
 }

@@ -128,3 +128,17 @@ def test_eval_at_chosen_wavelengths(surface):
     assert not tables.any_wavelength
     with pytest.raises(glintscope.Error, match="not 0.5 um"):
         tables.eval(wi, wo, wavelengths=[0.5])
+
+
+def test_a_footprint_near_the_kernels_width_warns_that_the_albedo_is_low(surface):
+    # Gabor's kernels (sigma_k = 0.5 um at one per texel) blur the window: a footprint of sigma_c = 1 um
+    # keeps f = 1/(1 + 0.25) = 0.8 of its energy, so the albedo is f of the FFT's (docs/gabor.md "Flat
+    # mirror"); bsdf() says so as a RuntimeWarning, and not at sigma_c = 5 um (f = 0.99).
+    keys = dict(res=32, lambda_=0.5, model="rohs")
+    with pytest.warns(RuntimeWarning, match="keeps f = 0.8 of the window's energy") as record:
+        narrow = glintscope.bsdf(surface, "gabor", sigma_c=1, kernels_per_texel=1, **keys)
+    assert narrow.warnings == [str(w.message) for w in record if w.category is RuntimeWarning]
+    wi = np.array([0.0, 0.0, 1.0])
+    fft = glintscope.bsdf(surface, "fft", sigma_c=1, **keys).albedo(wi)[0]
+    assert narrow.albedo(wi)[0] / fft == pytest.approx(0.8, rel=0.01)
+    assert glintscope.bsdf(surface, "gabor", sigma_c=5, kernels_per_texel=1, **keys).warnings == []

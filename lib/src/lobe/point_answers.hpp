@@ -5,6 +5,7 @@
 // empty, is answered from its own lobe images (bsdf/).
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "glintscope/core/geometry.hpp"
@@ -48,6 +49,9 @@ struct PointAnswers {
     // direction, for a method that shares work across the directions (a renderer's lights at one
     // shading point); empty: the BSDF calls eval per direction.
     std::function<std::vector<double>(const std::vector<Vec3>& omegas_i, Vec3 omega_o)> eval_incident = nullptr;
+    // What the method finds doubtful in these answers, for every direction (its images record
+    // the same as "METHOD.warning", e.g. gabor's kernel blur at a narrow footprint); empty: nothing.
+    std::string warning;
     // What the members above may point into without owning it (kept alive with them), so that
     // their captures stay small enough to be stored inside the std::function.
     std::shared_ptr<const void> owner = nullptr;

@@ -306,23 +306,30 @@ std::vector<std::string> query_warnings(const std::string& method, const LobeQue
                            std::to_string(supersample_for(info, query) * query.supersample) +
                            " or a larger --res)");
     }
+    for (std::string& warning : footprint_warnings(method, query.footprint, query.wavelengths_um))
+        warnings.push_back(std::move(warning));
+    // Kirchhoff-based models ignore shadowing and masking, which dominate near grazing.
+    if (info.wave_optics && query.omega_i.z < std::cos(80.0 * pi / 180.0))
+        warnings.push_back("incidence beyond 80 degrees: the diffraction models ignore shadowing and masking, "
+                           "which dominate there: the lobe is outside their validity");
+    return warnings;
+}
+
+std::vector<std::string> footprint_warnings(const std::string& method, const Footprint& f,
+                                            const std::vector<double>& wavelengths_um) {
+    std::vector<std::string> warnings;
     // A coherence footprint below the wavelength diffracts much of its light beyond the hemisphere
     // (its window's transform is wider than 1/λ), where the scalar models no longer describe it.
-    if (info.wave_optics) {
-        const Footprint& f = query.footprint;
+    if (find_method(method).info.wave_optics) {
         const double width =
             f.shape == FootprintShape::box ? std::min(box_width_um(f), box_height_um(f)) : minor_sigma_um(f);
-        const double longest = *std::max_element(query.wavelengths_um.begin(), query.wavelengths_um.end());
+        const double longest = *std::max_element(wavelengths_um.begin(), wavelengths_um.end());
         if (f.shape != FootprintShape::whole && width < longest)
             warnings.push_back(std::string(f.shape == FootprintShape::box ? "the box side " : "sigma_c ") +
                                shortest_text(width) + " um is below the wavelength " + shortest_text(longest) +
                                " um: the footprint's own diffraction sends much of the light beyond the hemisphere, "
                                "where the scalar diffraction models no longer hold");
     }
-    // Kirchhoff-based models ignore shadowing and masking, which dominate near grazing.
-    if (info.wave_optics && query.omega_i.z < std::cos(80.0 * pi / 180.0))
-        warnings.push_back("incidence beyond 80 degrees: the diffraction models ignore shadowing and masking, "
-                           "which dominate there: the lobe is outside their validity");
     return warnings;
 }
 

@@ -4,6 +4,7 @@
 #include <regex>
 #include <string>
 
+#include "glintscope/bsdf/bsdf.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
 #include "glintscope/lobe/image.hpp"
@@ -35,6 +36,11 @@ TEST(ComputeLobe, WarnsOfWaveFootprintsBelowTheWavelength) {
     const LobeRun narrow = run_lobe("fft", query);
     EXPECT_TRUE(below_wavelength(narrow));
     EXPECT_LT(disk_sum(narrow.image), 0.9);
+    // The footprint's BSDF says it too (it holds for every direction), and only it.
+    EXPECT_EQ(make_bsdf("fft", query).warnings(), footprint_warnings("fft", query.footprint, query.wavelengths_um));
+    ASSERT_EQ(footprint_warnings("fft", query.footprint, query.wavelengths_um).size(), 1u);
+    EXPECT_NE(footprint_warnings("fft", query.footprint, query.wavelengths_um)[0].find("is below the wavelength"),
+              std::string::npos);
     EXPECT_FALSE(below_wavelength(run_lobe("geometric", query)));
 }
 

@@ -61,9 +61,15 @@ LobeImage compute_lobe(const std::string& method, const LobeQuery& query);
 int recommended_supersample(const std::string& method, const LobeQuery& query);
 
 // Physics warnings about a planned query for a method, one line each: a coherence blur below a
-// sub-pixel that point-samples a wave lobe (its albedo and peak are then off), incidence beyond
-// the models' validity (shadowing is ignored).
+// sub-pixel that point-samples a wave lobe (its albedo and peak are then off), the footprint's
+// (footprint_warnings), incidence beyond the models' validity (shadowing is ignored).
 std::vector<std::string> query_warnings(const std::string& method, const LobeQuery& query);
+
+// The warnings about a footprint at the given wavelengths, which hold for every direction (a
+// BSDF's, bsdf.hpp): a wave-optics footprint below the wavelength, whose own diffraction sends
+// much of the light beyond the hemisphere, where the scalar models no longer hold.
+std::vector<std::string> footprint_warnings(const std::string& method, const Footprint& footprint,
+                                            const std::vector<double>& wavelengths_um);
 
 // Warnings about a computed image: a BRDF albedo above the material's Fresnel reflectance
 // F(θ_i) (1 without a material) by more than 2%, naming the term of the method or model that

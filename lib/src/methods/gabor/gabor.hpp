@@ -16,6 +16,7 @@
 #include <complex>
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "glintscope/optics/diffraction_model.hpp"
@@ -85,6 +86,11 @@ struct KernelGrid;  // gabor_kernels.hpp
 // they cannot resolve its window, whose lobe would not be the footprint's (docs/gabor.md "Flat
 // mirror"). Images, BSDFs and render fields alike, before any work.
 void check_footprint_width(const Footprint& footprint, const gabor::KernelGrid& grid);
+
+// What the kernels' own blur costs a Gaussian footprint, as its images' "gabor.warning" and its
+// point answers' warning say it: empty while the blur factor f (docs/gabor.md "Flat mirror") is at
+// least 0.98, else f, the albedo lost and the kernels_per_texel that brings f to 0.99.
+std::string kernel_blur_warning(const Footprint& footprint, const gabor::KernelGrid& grid);
 
 // ---- Whole lobe images --------------------------------------------------------------------
 

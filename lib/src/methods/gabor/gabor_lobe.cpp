@@ -434,14 +434,8 @@ void chirped_layer(const LayerSetup& layer, const gabor::FootprintKernels& kerne
 
 void record_settings(const GaborSettings& settings, const KernelGrid& grid, const gabor::FootprintKernels& kernels,
                      const LobeQuery& query, LobeImage& image) {
-    const double blur = kernel_blur_factor(query.footprint, grid);
-    if (blur < 0.98)
-        image.metadata["gabor.warning"] =
-            "the kernels' own blur (sigma_k " + shortest_text(grid.sigma_um) + " um against sigma_c " +
-            shortest_text(minor_sigma_um(query.footprint)) + " um) keeps f = " + shortest_text(std::round(blur * 1e4) / 1e4) +
-            " of the window's energy: the albedo is " + shortest_text(std::round((1.0 - blur) * 1e3) / 10) +
-            "% low, as Yan 2018 eq. 16 weights each kernel by the window at its centre; " +
-            remedy(query.footprint, grid);
+    if (std::string warning = kernel_blur_warning(query.footprint, grid); !warning.empty())
+        image.metadata["gabor.warning"] = std::move(warning);
     image.metadata["gabor.kernels_per_texel"] = std::to_string(settings.kernels_per_texel);
     image.metadata["gabor.order"] = std::to_string(settings.order);
     image.metadata["gabor.kernel_spacing_um"] = shortest_text(grid.spacing_um);
@@ -492,6 +486,14 @@ void check_footprint_width(const Footprint& footprint, const KernelGrid& grid) {
         throw Error("sigma_c " + shortest_text(minor_sigma_um(footprint)) + " um is below the kernels' width sigma_k " +
                     shortest_text(grid.sigma_um) + " um (kernels_per_texel " + std::to_string(grid.kernels_per_texel) +
                     "): the kernels cannot resolve the footprint; " + remedy(footprint, grid));
+}
+std::string kernel_blur_warning(const Footprint& footprint, const KernelGrid& grid) {
+    const double blur = kernel_blur_factor(footprint, grid);
+    if (blur >= 0.98) return {};
+    return "the kernels' own blur (sigma_k " + shortest_text(grid.sigma_um) + " um against sigma_c " +
+           shortest_text(minor_sigma_um(footprint)) + " um) keeps f = " + shortest_text(std::round(blur * 1e4) / 1e4) +
+           " of the window's energy: the albedo is " + shortest_text(std::round((1.0 - blur) * 1e3) / 10) +
+           "% low, as Yan 2018 eq. 16 weights each kernel by the window at its centre; " + remedy(footprint, grid);
 }
 
 LobeImage gabor_lobe(const LobeQuery& query) {

@@ -93,6 +93,7 @@ PointAnswersAt gabor_point_field(const LobeQuery& query) {
     auto surface = std::make_shared<const GaborSurface>(query.surface, settings);
     return [surface, grid, query](const Footprint& footprint) {
         PointAnswers answers;
+        answers.warning = kernel_blur_warning(footprint, grid);
         const DiffractionModel model = query.model;
         const MaterialChoice material = query.material;
         const std::vector<double> wavelengths = query.wavelengths_um;
@@ -142,6 +143,7 @@ PointAnswers gabor_point_answers(const LobeQuery& query) {
     answers.eval_at_wavelengths = [=](Vec3 omega_i, Vec3 omega_o, const std::vector<double>& chosen) {
         return indexed_f_r(*index, model, material, area, omega_i, omega_o, chosen);
     };
+    answers.warning = kernel_blur_warning(query.footprint, grid);
     const auto mixture =
         std::make_shared<const LazyMixture>([=] { return gabor::KernelMixture(index, model, wavelengths); });
     set_sampling(answers, mixture);

@@ -160,7 +160,8 @@ TEST(GaborLobe, FlatMirrorReflectsFresnelReflectance) {
 
 // On a rough surface too the kernels' blur takes the share 1 − f of the albedo, f = σ_c²/(σ_c² +
 // σ_k²): Gabor's albedo is f of the FFT's (measured within 0.15% at σ_c = 1 and 2 µm, K = 1 and 2),
-// and below f = 0.98 the run says so, naming the kernels_per_texel that brings f to 0.99.
+// and below f = 0.98 the run says so, naming the kernels_per_texel that brings f to 0.99; the
+// footprint's BSDF (its albedo by the point query) and a render field's say the same.
 TEST(GaborLobe, AlbedoIsTheKernelBlurShareOfTheFftsAtSmallFootprints) {
     for (const double sigma_c : {1.0, 2.0}) {
         LobeQuery query = isotropic_query(128);
@@ -180,6 +181,14 @@ TEST(GaborLobe, AlbedoIsTheKernelBlurShareOfTheFftsAtSmallFootprints) {
             if (sigma_c == 1.0 && density == 1 && warning != gabor.warnings.end()) {  // σ_k ≤ σ_c/√99 from K = 5: f = 0.990
                 EXPECT_NE(warning->find("kernels_per_texel 5 brings f to 0.99"), std::string::npos) << *warning;
             }
+            const std::vector<std::string> expected =
+                warning == gabor.warnings.end() ? std::vector<std::string>{} : std::vector<std::string>{*warning};
+            LobeQuery coarse = query;  // the BSDF's albedo sums eval over this resolution's sub-pixels
+            coarse.resolution = 32;
+            const Bsdf bsdf = make_bsdf("gabor", coarse);
+            EXPECT_EQ(bsdf.warnings(), expected) << sigma_c << " " << density;
+            EXPECT_NEAR(bsdf.albedo(query.omega_i)[0] / fft, blur, 0.01 * blur) << sigma_c << " " << density;
+            EXPECT_EQ(make_bsdf_field("gabor", coarse).at(query.footprint).warnings(), expected) << sigma_c << " " << density;
         }
     }
 }
