@@ -117,14 +117,14 @@ const std::string& Bsdf::method() const { return state_->method; }
 const std::vector<double>& Bsdf::wavelengths_um() const { return state_->query->wavelengths_um; }
 
 bool Bsdf::evaluates_directly() const { return static_cast<bool>(state_->point.eval); }
+bool Bsdf::samples_directly() const { return static_cast<bool>(state_->point.sample); }
+bool Bsdf::any_wavelength() const { return static_cast<bool>(state_->point.eval_at_wavelengths); }
 
 std::vector<std::string> Bsdf::warnings() const {
     std::vector<std::string> warnings = footprint_warnings(state_->method, state_->footprint, state_->query->wavelengths_um);
     if (!state_->point.warning.empty()) warnings.push_back(state_->method + ": " + state_->point.warning);
     return warnings;
 }
-bool Bsdf::samples_directly() const { return static_cast<bool>(state_->point.sample); }
-bool Bsdf::any_wavelength() const { return static_cast<bool>(state_->point.eval_at_wavelengths); }
 
 // Unit directions above the horizon from here on.
 namespace {
