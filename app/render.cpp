@@ -111,6 +111,7 @@ void run_sweep(const RenderCommand& command, const Scene& scene, const RenderSet
         frames = render_light_sweep(scene, command.sweep_frames, span, settings,
                                     [&](std::size_t done, std::size_t total) { progress.update(done, total, scene.method); });
     }
+    for (const std::string& warning : frames.front().warnings) std::fprintf(stderr, "glintscope: warning: %s\n", warning.c_str());
     for (RenderImage& frame : frames) frame.metadata["command_line"] = invocation();
     const int n = static_cast<int>(frames.size());
     std::vector<std::string> pngs;
@@ -144,6 +145,7 @@ void run(const RenderCommand& command) {
         ProgressBar progress("rows");
         image = render(scene, settings, [&](std::size_t done, std::size_t total) { progress.update(done, total, scene.method); });
     }
+    for (const std::string& warning : image.warnings) std::fprintf(stderr, "glintscope: warning: %s\n", warning.c_str());
     image.metadata["command_line"] = invocation();
     write_render_exr(image, command.output, colour);
     if (!command.png.empty()) {

@@ -84,7 +84,7 @@ PanelReport compute_render_panel(const Manifest& manifest, const ManifestPanel& 
     image.metadata["batch.hash"] = hash;
     write_render_png(image, render_picture_path(manifest, panel), colour);
     write_render_exr(image, exr, colour);
-    return {panel_name(manifest, panel), {}, {}};
+    return {panel_name(manifest, panel), {}, std::move(image.warnings)};
 }
 
 // The panel through the one pipeline (as `lobe` runs it), with the notes and warnings to say.

@@ -371,6 +371,9 @@ RenderImage empty_image(const Scene& scene, const BsdfField& field, const Render
     image.wavelengths_um = field.wavelengths_um();
     image.values.assign(image.pixels() * image.wavelengths_um.size(), 0.0f);
     image.metadata = render_metadata(scene, settings, pixel_footprint_of(scene, field));
+    // A wave method weighs every shading point with the same coherence footprint, so its BSDF's
+    // warnings (e.g. gabor's kernel blur) hold for the whole image.
+    if (!renders_pixel_footprint(scene.method)) image.warnings = field.at(scene.query.footprint).warnings();
     return image;
 }
 

@@ -199,6 +199,21 @@ TEST(Render, APixelIsTheMeanOfTheBsdfContractOverItsShadingPoints) {
     EXPECT_GE(checked, 6);  // glints, not black pixels
 }
 
+// Every shading point of a wave method weighs with the coherence footprint, so the render carries
+// that footprint's BSDF warnings: none at σ_c = 10 µm; at 1 µm gabor's kernels (σ_k = 0.5 µm)
+// keep f = 0.8 of the window's energy, and the image says so as the BSDF does.
+TEST(Render, AWaveRenderCarriesItsFootprintsBsdfWarnings) {
+    Scene scene = isotropic_scene();
+    scene.camera.width = 4, scene.camera.height = 4;
+    EXPECT_TRUE(render(scene, RenderSettings{1, 0}).warnings.empty());
+    scene.query.footprint.sigma_um = 1.0;
+    const std::vector<std::string> warnings = render(scene, RenderSettings{1, 0}).warnings;
+    EXPECT_EQ(warnings, make_bsdf("gabor", scene.query).warnings());
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("gabor: the kernels' own blur"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("keeps f = 0.8 "), std::string::npos) << warnings[0];
+}
+
 TEST(Render, OneAndTwoThreadsGiveTheSameImage) {
     const Scene scene = isotropic_scene();
     const RenderImage one = render(scene, RenderSettings{4, 1});

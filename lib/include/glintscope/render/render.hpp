@@ -63,6 +63,9 @@ struct RenderImage {
     std::vector<double> wavelengths_um;
     std::vector<float> values;  // [layer][row][col]
     Provenance metadata;        // the query (query_keys.hpp), "render.*" (scene, spp) and the method
+    // Physics warnings that hold for every pixel, one line each: a wave method's BSDF warnings at
+    // the coherence footprint (Bsdf::warnings; every shading point weighs with it).
+    std::vector<std::string> warnings;
 
     std::size_t pixels() const { return std::size_t(width) * height; }
     float at(std::size_t layer, int row, int col) const { return values[(layer * height + row) * std::size_t(width) + col]; }
