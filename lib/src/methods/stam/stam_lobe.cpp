@@ -445,10 +445,34 @@ std::string wide_footprint_warning(const Footprint& footprint, double scale_um, 
            "correlation scale";
 }
 
+// What Stam's formulas do not hold for here (the images' "stam.warning", the point answers'
+// warning): a footprint not much wider than the surface's correlation scale, overlapping CD bumps.
+std::string surface_warning(const StamSurface& surface, const Footprint& footprint) {
+    switch (surface.kind) {
+        case StamSurfaceKind::gaussian: {
+            const GaussianFieldParameters& g = surface.gaussian;
+            return wide_footprint_warning(footprint, std::max(g.correlation_length_x_um, g.correlation_length_y_um),
+                                          "correlation length T");
+        }
+        case StamSurfaceKind::grating:
+            return wide_footprint_warning(footprint, surface.grating.period_um, "period");
+        case StamSurfaceKind::cd: {
+            const CdParameters& cd = surface.cd;
+            std::string warning = wide_footprint_warning(footprint, cd.track_spacing_um, "track spacing");
+            // Stam 1999 eq. 21 keeps the bumps to first order: overlapping bumps (ν_y b of them per bump) are not.
+            if (cd.bump_density_per_um * cd.bump_length_um > 0.1)
+                warning += std::string(warning.empty() ? "" : "; ") + "bumps overlap (density x length " +
+                           shortest_text(cd.bump_density_per_um * cd.bump_length_um) +
+                           " > 0.1): Stam 1999 eq. 21 treats them to first order";
+            return warning;
+        }
+    }
+    return "";
+}
+
 void record_surface(const StamSurface& surface, const Footprint& footprint, LobeImage& image) {
     Provenance& m = image.metadata;
     m["stam.surface"] = kind_name(surface.kind);
-    std::string warning;
     switch (surface.kind) {
         case StamSurfaceKind::gaussian: {
             const GaussianFieldParameters& g = surface.gaussian;
@@ -457,15 +481,12 @@ void record_surface(const StamSurface& surface, const Footprint& footprint, Lobe
             m["stam.correlation_length_x_um"] = shortest_text(g.correlation_length_x_um);
             m["stam.correlation_length_y_um"] = shortest_text(g.correlation_length_y_um);
             m["stam.orientation_deg"] = shortest_text(g.orientation_rad * 180.0 / pi);
-            warning = wide_footprint_warning(footprint, std::max(g.correlation_length_x_um, g.correlation_length_y_um),
-                                             "correlation length T");
             break;
         }
         case StamSurfaceKind::grating:
             m["stam.period_um"] = shortest_text(surface.grating.period_um);
             m["stam.amplitude_um"] = shortest_text(surface.grating.amplitude_um);
             m["stam.angle_deg"] = shortest_text(surface.grating.angle_rad * 180.0 / pi);
-            warning = wide_footprint_warning(footprint, surface.grating.period_um, "period");
             break;
         case StamSurfaceKind::cd: {
             const CdParameters& cd = surface.cd;
@@ -475,16 +496,10 @@ void record_surface(const StamSurface& surface, const Footprint& footprint, Lobe
             m["stam.track_spacing_um"] = shortest_text(cd.track_spacing_um);
             m["stam.bump_density_per_um"] = shortest_text(cd.bump_density_per_um);
             m["stam.bump_shape"] = cd.shape == BumpShape::flat ? "flat" : "ramp";
-            warning = wide_footprint_warning(footprint, cd.track_spacing_um, "track spacing");
-            // Stam 1999 eq. 21 keeps the bumps to first order: overlapping bumps (ν_y b of them per bump) are not.
-            if (cd.bump_density_per_um * cd.bump_length_um > 0.1)
-                warning += std::string(warning.empty() ? "" : "; ") + "bumps overlap (density x length " +
-                           shortest_text(cd.bump_density_per_um * cd.bump_length_um) +
-                           " > 0.1): Stam 1999 eq. 21 treats them to first order";
             break;
         }
     }
-    if (!warning.empty()) m["stam.warning"] = warning;
+    if (std::string warning = surface_warning(surface, footprint); !warning.empty()) m["stam.warning"] = std::move(warning);
 }
 
 // One evaluation per wavelength of the query; `query` and `surface` must outlive them.
@@ -526,6 +541,7 @@ PointAnswers stam_point(const LobeQuery& query) {
         for (const Evaluation& e : shared->per_wavelength) f.push_back(stam_value(e, omega_i, omega_o));
         return f;
     };
+    answers.warning = surface_warning(point->surface, query.footprint);
     return answers;
 }
 

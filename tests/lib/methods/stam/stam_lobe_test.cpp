@@ -7,9 +7,11 @@
 #include <cstdio>
 #include <numbers>
 #include <thread>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "glintscope/bsdf/bsdf.hpp"
 #include "glintscope/core/error.hpp"
 #include "glintscope/pipeline/pipeline.hpp"
 #include "methods/fft/fft_lobe.hpp"
@@ -432,6 +434,8 @@ TEST(StamCd, OrderPositionsMatchFftOfGeneratedTracks) {
     const std::vector<std::string> warnings = run_lobe("stam", query).warnings;
     EXPECT_NE(std::find(warnings.begin(), warnings.end(), "stam: " + stam_image.metadata.at("stam.warning")),
               warnings.end());
+    // And the footprint's BSDF, whose closed form per direction it holds for just as much.
+    EXPECT_EQ(make_bsdf("stam", query).warnings(), std::vector<std::string>{"stam: " + stam_image.metadata.at("stam.warning")});
     for (int m = -4; m <= 4; ++m) {
         const double x = -m * 0.5 / 2.5;
         const double col = (x + 1.0) * n / 2.0 - 0.5, row = (n - 1) / 2.0;
