@@ -63,8 +63,8 @@ public:
     // Physics warnings that hold for every direction, one line each, as a lobe run of the same
     // method and footprint gives them: the footprint's (pipeline.hpp footprint_warnings) and the
     // method's own point query's, "METHOD: …" (gabor: its kernels' blur at a narrow footprint,
-    // which lowers the albedo; stam: where its statistics do not hold). A BSDF answered from its images (evaluates_directly() false) does
-    // not report those images' own warnings.
+    // which lowers the albedo; stam: where its statistics do not hold). A BSDF answered from its
+    // images (evaluates_directly() false) does not report those images' own warnings.
     std::vector<std::string> warnings() const;
 
     struct State;  // the method's parts and the tables (bsdf.cpp)

@@ -487,6 +487,7 @@ void check_footprint_width(const Footprint& footprint, const KernelGrid& grid) {
                     shortest_text(grid.sigma_um) + " um (kernels_per_texel " + std::to_string(grid.kernels_per_texel) +
                     "): the kernels cannot resolve the footprint; " + remedy(footprint, grid));
 }
+
 std::string kernel_blur_warning(const Footprint& footprint, const KernelGrid& grid) {
     const double blur = kernel_blur_factor(footprint, grid);
     if (blur >= 0.98) return {};
